@@ -1,0 +1,184 @@
+// The scanfill command line: the main run (--config), --print-defaults, and the tools info and sample.
+// Exit codes: 0 success, 1 a run or input error, 2 a usage or config error. Every error is one line on stderr
+// (a config with several problems prints one line per problem).
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "engine/config.h"
+#include "engine/console.h"
+#include "engine/fields.h"
+#include "engine/pipeline.h"
+#include "nodes/core/errors.h"
+#include "nodes/io/write_ply.h"
+
+namespace {
+
+using namespace scanfill;
+
+int fail(const std::string& what, int code = 1) {
+  std::lock_guard<std::mutex> lock(Progress::instance().mutex());
+  Progress::instance().clear_locked();
+  std::cerr << "scanfill: error: " << what << std::endl;
+  return code;
+}
+
+std::unique_ptr<tbb::global_control> limit_threads(int threads) {
+  const int n = threads > 0 ? threads : tbb::info::default_concurrency();
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(n));
+}
+
+int run_info(const std::string& file, bool json) {
+  const LoadResult r = read_point_set(file, LoadOptions{.morton_sort = false});
+  const PointSet& p = r.points;
+  const BoundingBox box = bounding_box(p.positions());
+  std::vector<std::string> attributes = p.attribute_names();
+  if (json) {
+    nlohmann::json j = {{"format", r.format},
+                        {"encoding", r.encoding},
+                        {"points", p.size()},
+                        {"faces", p.faces().cols()},
+                        {"file_points", r.file_points},
+                        {"dropped_nonfinite", r.dropped_nonfinite},
+                        {"bbox", {{box.min.x(), box.min.y(), box.min.z()}, {box.max.x(), box.max.y(), box.max.z()}}},
+                        {"attributes", attributes},
+                        {"warnings", r.warnings}};
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  for (const auto& w : r.warnings) spdlog::warn("{}", w);
+  std::cout << file << "\n"
+            << "  format      " << r.format << " (" << r.encoding << ")\n"
+            << "  points      " << p.size();
+  if (r.dropped_nonfinite)
+    std::cout << " (" << r.dropped_nonfinite << " non-finite of " << r.file_points << " dropped)";
+  std::cout << "\n  faces       " << p.faces().cols() << "\n"
+            << "  bbox min    " << box.min.transpose() << "\n"
+            << "  bbox max    " << box.max.transpose() << "\n"
+            << "  diagonal    " << box.diagonal() << "\n"
+            << "  attributes  ";
+  for (size_t i = 0; i < attributes.size(); ++i) std::cout << (i ? ", " : "") << attributes[i];
+  std::cout << std::endl;
+  return 0;
+}
+
+int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
+               int k) {
+  if (!is_supported_extension(input))
+    return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)", 2);
+  if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
+  SampleOptions so;
+  so.spacing = spacing;
+  if (count > 0) so.count = count;
+  so.seed = seed;
+  FeaturesOptions fo;
+  fo.k = k;
+  const LoadResult loaded = read_point_set(input);
+  for (const auto& w : loaded.warnings) spdlog::warn("{}", w);
+  Progress::instance().start("sample");
+  const SampleResult s = sample(loaded.points, so, [](double f) { Progress::instance().update("sample", f); });
+  Progress::instance().finish("sample");
+  for (const auto& w : s.warnings) spdlog::warn("{}", w);
+  Progress::instance().start("features");
+  const FeaturesResult f =
+      estimate_features(s.samples, fo, [](double x) { Progress::instance().update("features", x); });
+  Progress::instance().finish("features");
+  for (const auto& w : f.warnings) spdlog::warn("{}", w);
+  write_ply(output, f.points);
+  spdlog::info("{} samples (spacing {:.4g}) from {} with normals, k1 k2, d1 -> {}", f.points.size(), s.spacing, input,
+               output);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"scanfill: complete partial 3D scans and transfer geometric style by shape analogies"};
+  app.set_version_flag("--version", std::string("scanfill ") + SCANFILL_VERSION);
+  std::string config_path;
+  bool print_defaults = false, verbose = false, quiet = false;
+  int threads = 0;
+  app.add_option("--config", config_path, "run the pipeline configured by this YAML file")->check(CLI::ExistingFile);
+  app.add_flag("--print-defaults", print_defaults, "print a complete config with every option and its default");
+  auto add_common = [&](CLI::App* cmd) {
+    cmd->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
+    cmd->add_flag("-v,--verbose", verbose, "debug logging");
+    cmd->add_flag("-q,--quiet", quiet, "warnings and errors only");
+  };
+  add_common(&app);
+
+  CLI::App* info = app.add_subcommand("info", "print format, counts, bounding box and attributes of a file");
+  std::string info_file;
+  bool info_json = false;
+  info->add_option("file", info_file, "point cloud or mesh (.ply .pcd .obj .off .stl .xyz)")->required();
+  info->add_flag("--json", info_json, "print JSON");
+  add_common(info);
+
+  CLI::App* samp = app.add_subcommand("sample", "Poisson-disk sampling plus features of one file, written as PLY");
+  std::string s_in, s_out;
+  double s_spacing = 0;
+  Index s_count = 0;
+  std::uint64_t s_seed = 1;
+  int s_k = FeaturesOptions{}.k;
+  samp->add_option("--input", s_in, "point cloud or mesh")->required();
+  samp->add_option("--output", s_out, "output .ply (x y z nx ny nz k1 k2 d1x d1y d1z)")->required();
+  auto* sp = samp->add_option("--spacing", s_spacing, "mean sample spacing, model units")->check(CLI::PositiveNumber);
+  auto* ct = samp->add_option("--count", s_count, "number of samples (default 20000)")->check(CLI::PositiveNumber);
+  sp->excludes(ct);
+  samp->add_option("--seed", s_seed, "random seed (meshes)");
+  samp->add_option("--k", s_k, "neighbours for normals and curvature")->check(CLI::Range(6, 128));
+  add_common(samp);
+  app.require_subcommand(0, 1);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  setup_logging(verbose, quiet);
+  try {
+    if (print_defaults) {
+      std::cout << default_config_yaml();
+      return 0;
+    }
+    if (info->parsed()) {
+      const auto limit = limit_threads(threads);
+      return run_info(info_file, info_json);
+    }
+    if (samp->parsed()) {
+      const auto limit = limit_threads(threads);
+      return run_sample(s_in, s_out, s_spacing, s_count, s_seed, s_k);
+    }
+    if (config_path.empty()) {
+      std::cerr << app.help() << std::endl;
+      return fail("nothing to do: give --config FILE, --print-defaults or a subcommand", 2);
+    }
+    RunConfig config;
+    try {
+      config = load_config(config_path);
+    } catch (const ConfigError& e) {
+      return fail(e.what(), 2);
+    }
+    if (threads > 0) config.threads = threads;
+    const auto limit = limit_threads(config.threads);
+    spdlog::info("{} run of {} on {} threads", config.mode, config_path,
+                 tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const RunOutcome outcome = run_pipeline(config);
+    std::cout << "scanfill: ran load, sample and features on " << config.inputs.size()
+              << " inputs; the analogy and synthesis stages are not implemented yet.\n";
+    for (const auto& out : outcome.outputs) std::cout << "  wrote " << out.string() << "\n";
+    std::cout << "  peak memory " << int(peak_rss_mb()) << " MiB" << std::endl;
+    return 0;
+  } catch (const ConfigError& e) {
+    return fail(e.what(), 2);
+  } catch (const Error& e) {
+    return fail(e.what());
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory");
+  } catch (const std::exception& e) {
+    return fail(std::string("unexpected: ") + e.what());
+  }
+}

@@ -1,0 +1,82 @@
+#include "nodes/core/point_set.h"
+
+#include <Eigen/Geometry>
+#include <string>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+
+PointSet::PointSet(Eigen::Matrix3Xd positions) {
+  set_positions(std::move(positions));
+}
+
+void PointSet::set_positions(Eigen::Matrix3Xd m) {
+  positions_ = std::make_shared<const Eigen::Matrix3Xd>(std::move(m));
+}
+void PointSet::set_normals(Eigen::Matrix3Xd m) {
+  normals_ = std::make_shared<const Eigen::Matrix3Xd>(std::move(m));
+}
+void PointSet::set_curvatures(Eigen::Matrix2Xd m) {
+  curvatures_ = std::make_shared<const Eigen::Matrix2Xd>(std::move(m));
+}
+void PointSet::set_directions(Eigen::Matrix3Xd m) {
+  directions_ = std::make_shared<const Eigen::Matrix3Xd>(std::move(m));
+}
+void PointSet::set_faces(Matrix3Xi m) {
+  faces_ = std::make_shared<const Matrix3Xi>(std::move(m));
+}
+void PointSet::set_face_provenance(VectorXi32 face, Eigen::Matrix3Xd barycentrics) {
+  source_face_ = std::make_shared<const VectorXi32>(std::move(face));
+  barycentrics_ = std::make_shared<const Eigen::Matrix3Xd>(std::move(barycentrics));
+}
+void PointSet::set_source_index(VectorXi64 index) {
+  source_index_ = std::make_shared<const VectorXi64>(std::move(index));
+}
+
+std::vector<std::string> PointSet::attribute_names() const {
+  std::vector<std::string> names{"positions"};
+  if (has_normals()) names.push_back("normals");
+  if (has_curvatures()) names.push_back("curvatures");
+  if (has_directions()) names.push_back("directions");
+  if (has_faces()) names.push_back("faces");
+  if (has_face_provenance()) names.push_back("face_provenance");
+  if (has_source_index()) names.push_back("source_index");
+  if (viewpoint_) names.push_back("viewpoint");
+  return names;
+}
+
+void PointSet::check() const {
+  const Index n = size();
+  auto expect = [n](const char* name, Index cols) {
+    if (cols != 0 && cols != n)
+      throw InvariantError(std::string("point set attribute '") + name + "' has " + std::to_string(cols) +
+                           " entries for " + std::to_string(n) + " points");
+  };
+  expect("normals", normals().cols());
+  expect("curvatures", curvatures().cols());
+  expect("directions", directions().cols());
+  expect("source_face", source_face().size());
+  expect("barycentrics", barycentrics().cols());
+  expect("source_index", source_index().size());
+  if (source_face().size() != barycentrics().cols())
+    throw InvariantError("point set face provenance: source_face and barycentrics differ in size");
+  if (has_faces() && (faces().minCoeff() < 0 || faces().maxCoeff() >= n))
+    throw InvariantError("point set face index out of range [0, " + std::to_string(n) + ")");
+}
+
+BoundingBox bounding_box(const Eigen::Matrix3Xd& positions) {
+  if (positions.cols() == 0) throw InvariantError("bounding box of an empty point set");
+  return {positions.rowwise().minCoeff(), positions.rowwise().maxCoeff()};
+}
+
+double surface_area(const Eigen::Matrix3Xd& positions, const Matrix3Xi& faces) {
+  double area = 0.0;
+  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+    const Eigen::Vector3d a = positions.col(faces(0, f));
+    area += 0.5 * (positions.col(faces(1, f)) - a).cross(positions.col(faces(2, f)) - a).norm();
+  }
+  return area;
+}
+
+}  // namespace scanfill

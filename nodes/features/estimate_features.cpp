@@ -1,0 +1,381 @@
+#include "nodes/features/estimate_features.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <complex>
+#include <numeric>
+#include <queue>
+
+#include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+using Complex = std::complex<double>;
+constexpr Index kGrain = 2048;
+
+// Deterministic parallel sum over [0, n) of f(i).
+template <class F>
+double parallel_sum(Index n, F&& f) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<Index>(0, n, kGrain), 0.0,
+      [&](const tbb::blocked_range<Index>& r, double acc) {
+        for (Index i = r.begin(); i != r.end(); ++i) acc += f(i);
+        return acc;
+      },
+      std::plus<double>());
+}
+
+// A tangent frame (u, v) for normal n, a deterministic function of n.
+void tangent_frame(const Eigen::Vector3d& n, Eigen::Vector3d& u, Eigen::Vector3d& v) {
+  u = n.unitOrthogonal();
+  v = n.cross(u);
+}
+
+// Orients normals by propagation over a minimum spanning tree of the symmetrised kNN graph (Prim).
+void orient_by_propagation(const Eigen::Matrix3Xd& P, Eigen::Matrix3Xd& N, const std::vector<std::int32_t>& knn,
+                           int k) {
+  const Index n = P.cols();
+  // Symmetric adjacency in CSR.
+  std::vector<std::int64_t> offset(size_t(n) + 1, 0);
+  for (Index i = 0; i < n; ++i)
+    for (int a = 1; a < k; ++a) {
+      ++offset[size_t(i) + 1];
+      ++offset[size_t(knn[size_t(i * k + a)]) + 1];
+    }
+  std::partial_sum(offset.begin(), offset.end(), offset.begin());
+  std::vector<std::int32_t> adj(size_t(offset.back()));
+  std::vector<std::int64_t> fill(offset.begin(), offset.end() - 1);
+  for (Index i = 0; i < n; ++i)
+    for (int a = 1; a < k; ++a) {
+      const std::int32_t j = knn[size_t(i * k + a)];
+      adj[size_t(fill[size_t(i)]++)] = j;
+      adj[size_t(fill[size_t(j)]++)] = std::int32_t(i);
+    }
+
+  const Eigen::Vector3d centroid = P.rowwise().mean();
+  std::vector<std::uint8_t> visited(size_t(n), 0);
+  using Item = std::tuple<double, std::int32_t, std::int32_t>;  // cost, node, parent
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  std::vector<std::int32_t> component;
+  // Seeds in order of decreasing z (Hoppe: the highest point's normal points up).
+  std::vector<std::int32_t> by_z(static_cast<size_t>(n));
+  std::iota(by_z.begin(), by_z.end(), 0);
+  std::stable_sort(by_z.begin(), by_z.end(), [&](auto a, auto b) { return P(2, a) > P(2, b); });
+  for (const std::int32_t seed : by_z) {
+    if (visited[size_t(seed)]) continue;
+    if (N(2, seed) < 0) N.col(seed) *= -1;
+    component.clear();
+    heap.push({0.0, seed, seed});
+    while (!heap.empty()) {
+      const auto [cost, i, parent] = heap.top();
+      heap.pop();
+      if (visited[size_t(i)]) continue;
+      visited[size_t(i)] = 1;
+      component.push_back(i);
+      if (i != parent && N.col(i).dot(N.col(parent)) < 0) N.col(i) *= -1;
+      for (std::int64_t e = offset[size_t(i)]; e < offset[size_t(i) + 1]; ++e) {
+        const std::int32_t j = adj[size_t(e)];
+        if (!visited[size_t(j)]) heap.push({1.0 - std::abs(N.col(i).dot(N.col(j))), j, i});
+      }
+    }
+    // Sign of the whole component: away from the centroid on balance.
+    double outward = 0;
+    for (const auto i : component) outward += N.col(i).dot(P.col(i) - centroid);
+    if (outward < 0)
+      for (const auto i : component) N.col(i) *= -1;
+  }
+}
+
+// Hermitian sparse matrix in CSR with complex entries, for the cross-field solve.
+struct ComplexCsr {
+  std::vector<std::int64_t> offset;
+  std::vector<std::int32_t> column;
+  std::vector<Complex> value;
+  std::vector<double> diagonal;
+  Index rows() const { return Index(diagonal.size()); }
+  void multiply(const std::vector<Complex>& x, std::vector<Complex>& y) const {
+    tbb::parallel_for(tbb::blocked_range<Index>(0, rows(), kGrain), [&](const tbb::blocked_range<Index>& r) {
+      for (Index i = r.begin(); i != r.end(); ++i) {
+        Complex s = diagonal[size_t(i)] * x[size_t(i)];
+        for (std::int64_t e = offset[size_t(i)]; e < offset[size_t(i) + 1]; ++e)
+          s += value[size_t(e)] * x[size_t(column[size_t(e)])];
+        y[size_t(i)] = s;
+      }
+    });
+  }
+};
+
+// Jacobi-preconditioned CG for the Hermitian positive definite system A x = b.
+void conjugate_gradient(const ComplexCsr& A, const std::vector<Complex>& b, std::vector<Complex>& x, int max_iter,
+                        double tol, FeaturesResult& result) {
+  const Index n = A.rows();
+  std::vector<Complex> r(static_cast<size_t>(n)), z(static_cast<size_t>(n)), p(static_cast<size_t>(n)),
+      q(static_cast<size_t>(n));
+  A.multiply(x, q);
+  for (Index i = 0; i < n; ++i) r[size_t(i)] = b[size_t(i)] - q[size_t(i)];
+  const double b_norm = std::sqrt(parallel_sum(n, [&](Index i) { return std::norm(b[size_t(i)]); }));
+  if (b_norm == 0) {
+    std::fill(x.begin(), x.end(), Complex(0));
+    return;
+  }
+  for (Index i = 0; i < n; ++i) z[size_t(i)] = r[size_t(i)] / A.diagonal[size_t(i)];
+  p = z;
+  double rz = parallel_sum(n, [&](Index i) { return std::real(std::conj(r[size_t(i)]) * z[size_t(i)]); });
+  result.converged = false;
+  for (int it = 0; it < max_iter; ++it) {
+    const double r_norm = std::sqrt(parallel_sum(n, [&](Index i) { return std::norm(r[size_t(i)]); }));
+    result.residual = r_norm / b_norm;
+    result.iterations = it;
+    if (result.residual < tol) {
+      result.converged = true;
+      return;
+    }
+    A.multiply(p, q);
+    const double pq = parallel_sum(n, [&](Index i) { return std::real(std::conj(p[size_t(i)]) * q[size_t(i)]); });
+    if (!(pq > 0)) break;
+    const double alpha = rz / pq;
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& rg) {
+      for (Index i = rg.begin(); i != rg.end(); ++i) {
+        x[size_t(i)] += alpha * p[size_t(i)];
+        r[size_t(i)] -= alpha * q[size_t(i)];
+        z[size_t(i)] = r[size_t(i)] / A.diagonal[size_t(i)];
+      }
+    });
+    const double rz_new = parallel_sum(n, [&](Index i) { return std::real(std::conj(r[size_t(i)]) * z[size_t(i)]); });
+    const double beta = rz_new / rz;
+    rz = rz_new;
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& rg) {
+      for (Index i = rg.begin(); i != rg.end(); ++i) p[size_t(i)] = z[size_t(i)] + beta * p[size_t(i)];
+    });
+    result.iterations = it + 1;
+  }
+  result.residual = std::sqrt(parallel_sum(n, [&](Index i) { return std::norm(r[size_t(i)]); })) / b_norm;
+  result.converged = result.residual < tol;
+}
+
+// Angle of j's tangent frame seen in i's, after the minimal rotation taking n_j to n_i.
+double transport_angle(const Eigen::Vector3d& ni, const Eigen::Vector3d& ui, const Eigen::Vector3d& vi,
+                       const Eigen::Vector3d& nj, const Eigen::Vector3d& uj) {
+  const Eigen::Vector3d t = Eigen::Quaterniond::FromTwoVectors(nj, ni) * uj;
+  return std::atan2(t.dot(vi), t.dot(ui));
+}
+
+}  // namespace
+
+FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& options, const ProgressFn& progress) {
+  input.check();
+  const Index n = input.size();
+  const int k = options.k;
+  if (n < k + 1)
+    throw InputError("features need at least k + 1 = " + std::to_string(k + 1) + " points, the input has " +
+                     std::to_string(n));
+  FeaturesResult result;
+  const Eigen::Matrix3Xd& P = input.positions();
+  KdTree tree;
+  tree.build(P);
+
+  // kNN lists (self first) and PCA normals.
+  std::vector<std::int32_t> knn(size_t(n * k));
+  std::vector<double> radius(static_cast<size_t>(n));
+  Eigen::Matrix3Xd N(3, n);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
+    std::vector<double> d2(static_cast<size_t>(k));
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      std::int32_t* nb = &knn[size_t(i * k)];
+      tree.knn(P.col(i), k, nb, d2.data());
+      radius[size_t(i)] = std::sqrt(d2[size_t(k - 1)]);
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int a = 0; a < k; ++a) mean += P.col(nb[a]);
+      mean /= k;
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (int a = 0; a < k; ++a) {
+        const Eigen::Vector3d d = P.col(nb[a]) - mean;
+        cov.noalias() += d * d.transpose();
+      }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(cov);
+      N.col(i) = eig.eigenvectors().col(0);
+    }
+  });
+  report(progress, 0.3);
+
+  // Orientation.
+  NormalOrientation mode = options.orientation;
+  const std::optional<Eigen::Vector3d> viewpoint = options.viewpoint ? options.viewpoint : input.viewpoint();
+  if (mode == NormalOrientation::kAuto)
+    mode = input.has_normals() ? NormalOrientation::kInput
+           : viewpoint         ? NormalOrientation::kViewpoint
+                               : NormalOrientation::kPropagate;
+  if (mode == NormalOrientation::kInput && !input.has_normals())
+    throw InputError("normal orientation 'input' asked, but the input has no normals");
+  if (mode == NormalOrientation::kViewpoint && !viewpoint)
+    throw InputError("normal orientation 'viewpoint' asked, but no viewpoint is known (set features.viewpoint)");
+  result.orientation_used = mode;
+  if (mode == NormalOrientation::kPropagate) {
+    orient_by_propagation(P, N, knn, k);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
+      for (Index i = r.begin(); i != r.end(); ++i) {
+        const Eigen::Vector3d ref = mode == NormalOrientation::kInput ? Eigen::Vector3d(input.normals().col(i))
+                                                                      : Eigen::Vector3d(*viewpoint - P.col(i));
+        if (N.col(i).dot(ref) < 0) N.col(i) *= -1;
+      }
+    });
+  }
+  report(progress, 0.45);
+
+  // Shape operator fit: dn = S dp in the tangent plane.
+  Eigen::Matrix2Xd K(2, n);
+  Eigen::Matrix3Xd D(3, n);
+  std::vector<std::uint8_t> unreliable(size_t(n), 0);
+  std::vector<Complex> raw(static_cast<size_t>(n));  // exp(4 i theta) of the raw k1 direction in the tangent frame
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Vector3d ni = N.col(i);
+      Eigen::Vector3d u, v;
+      tangent_frame(ni, u, v);
+      Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
+      const std::int32_t* nb = &knn[size_t(i * k)];
+      for (int a = 1; a < k; ++a) {
+        const Eigen::Vector3d dp = P.col(nb[a]) - P.col(i);
+        Eigen::Vector3d nj = N.col(nb[a]);
+        if (nj.dot(ni) < 0) nj = -nj;
+        const Eigen::Vector3d dn = nj - ni;
+        const double x = dp.dot(u), y = dp.dot(v), du = dn.dot(u), dv = dn.dot(v);
+        // rows [x y 0] . (e f g) = du and [0 x y] . (e f g) = dv
+        const Eigen::Vector3d r1(x, y, 0), r2(0, x, y);
+        AtA.noalias() += r1 * r1.transpose() + r2 * r2.transpose();
+        Atb += r1 * du + r2 * dv;
+      }
+      Eigen::Vector3d s = Eigen::Vector3d::Zero();
+      Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
+      if (ldlt.info() == Eigen::Success && ldlt.isPositive() && std::abs(AtA.determinant()) > 1e-30)
+        s = ldlt.solve(Atb);
+      if (!s.allFinite()) s.setZero();
+      Eigen::Matrix2d S;
+      S << s(0), s(1), s(1), s(2);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+      int big = std::abs(eig.eigenvalues()(1)) >= std::abs(eig.eigenvalues()(0)) ? 1 : 0;
+      const double k1 = eig.eigenvalues()(big), k2 = eig.eigenvalues()(1 - big);
+      const Eigen::Vector2d e = eig.eigenvectors().col(big);
+      K.col(i) << k1, k2;
+      D.col(i) = (e(0) * u + e(1) * v).normalized();
+      const double theta = std::atan2(e(1), e(0));
+      raw[size_t(i)] = std::polar(1.0, 4 * theta);
+      const double h = radius[size_t(i)];
+      unreliable[size_t(i)] =
+          std::abs(k1) * h < options.flat_threshold || std::abs(k2) > options.umbilic_ratio * std::abs(k1);
+    }
+  });
+  report(progress, 0.7);
+
+  // Cross-field smoothing of the unreliable directions.
+  for (Index i = 0; i < n; ++i) result.unreliable_directions += unreliable[size_t(i)];
+  if (options.smooth_directions && result.unreliable_directions > 0) {
+    // Unknowns: unreliable points and their reliable neighbours (soft-constrained); the rest enter as constants.
+    std::vector<std::int32_t> unknown_id(size_t(n), -1);
+    for (Index i = 0; i < n; ++i)
+      if (unreliable[size_t(i)])
+        for (int a = 0; a < k; ++a) unknown_id[size_t(knn[size_t(i * k + a)])] = 0;
+    std::vector<std::int32_t> unknowns;
+    for (Index i = 0; i < n; ++i)
+      if (unknown_id[size_t(i)] == 0) {
+        unknown_id[size_t(i)] = std::int32_t(unknowns.size());
+        unknowns.push_back(std::int32_t(i));
+      }
+    const Index m = Index(unknowns.size());
+    // Each directed kNN edge (i, j) adds |z_i - c_ij z_j|^2 with c_ij = exp(4 i rho_ij): A_ii += 1, A_jj += 1,
+    // A_ij -= c_ij, A_ji -= conj(c_ij). Rows gather, per unknown, its out-edges and the in-edges pointing to it.
+    std::vector<std::int64_t> in_offset(size_t(m) + 1, 0);  // CSR of in-edges: the points whose kNN name the row
+    for (Index i = 0; i < n; ++i)
+      for (int a = 1; a < k; ++a)
+        if (const auto j = unknown_id[size_t(knn[size_t(i * k + a)])]; j >= 0) ++in_offset[size_t(j) + 1];
+    std::partial_sum(in_offset.begin(), in_offset.end(), in_offset.begin());
+    std::vector<std::int32_t> in_source(size_t(in_offset.back()));
+    {
+      std::vector<std::int64_t> fill(in_offset.begin(), in_offset.end() - 1);
+      for (Index i = 0; i < n; ++i)
+        for (int a = 1; a < k; ++a)
+          if (const auto j = unknown_id[size_t(knn[size_t(i * k + a)])]; j >= 0)
+            in_source[size_t(fill[size_t(j)]++)] = std::int32_t(i);
+    }
+    std::vector<std::int64_t> offset(size_t(m) + 1, 0);
+    for (Index r = 0; r < m; ++r)
+      offset[size_t(r) + 1] = offset[size_t(r)] + (k - 1) + (in_offset[size_t(r) + 1] - in_offset[size_t(r)]);
+    ComplexCsr A;
+    A.offset = offset;
+    A.column.resize(size_t(offset.back()));
+    A.value.resize(size_t(offset.back()));
+    A.diagonal.assign(size_t(m), 0.0);
+    std::vector<Complex> b(static_cast<size_t>(m)), x(static_cast<size_t>(m));
+    tbb::parallel_for(tbb::blocked_range<Index>(0, m, 256), [&](const tbb::blocked_range<Index>& rg) {
+      for (Index row = rg.begin(); row != rg.end(); ++row) {
+        const std::int32_t i = unknowns[size_t(row)];
+        Eigen::Vector3d ui, vi;
+        tangent_frame(N.col(i), ui, vi);
+        double diag = 0;
+        Complex rhs = 0;
+        std::int64_t e = offset[size_t(row)];
+        auto add = [&](std::int32_t j, Complex c) {  // term |z_i - c z_j|^2 seen from row i
+          diag += 1.0;
+          if (unknown_id[size_t(j)] >= 0) {
+            A.column[size_t(e)] = unknown_id[size_t(j)];
+            A.value[size_t(e)] = -c;
+          } else {
+            A.column[size_t(e)] = std::int32_t(row);  // a constant: moves to the right-hand side
+            A.value[size_t(e)] = 0;
+            rhs += c * raw[size_t(j)];
+          }
+          ++e;
+        };
+        for (int a = 1; a < k; ++a) {
+          const std::int32_t j = knn[size_t(i * k + a)];
+          Eigen::Vector3d uj, vj;
+          tangent_frame(N.col(j), uj, vj);
+          add(j, std::polar(1.0, 4 * transport_angle(N.col(i), ui, vi, N.col(j), uj)));
+        }
+        for (std::int64_t s = in_offset[size_t(row)]; s < in_offset[size_t(row) + 1]; ++s) {
+          const std::int32_t j = in_source[size_t(s)];
+          Eigen::Vector3d uj, vj;
+          tangent_frame(N.col(j), uj, vj);
+          add(j, std::polar(1.0, 4 * transport_angle(N.col(i), ui, vi, N.col(j), uj)));
+        }
+        const double lambda = unreliable[size_t(i)] ? options.regularization : options.reliable_weight;
+        A.diagonal[size_t(row)] = diag + lambda;
+        b[size_t(row)] = rhs + lambda * raw[size_t(i)];
+        x[size_t(row)] = raw[size_t(i)];
+      }
+    });
+    conjugate_gradient(A, b, x, options.max_iterations, options.tolerance, result);
+    if (!result.converged)
+      result.warnings.push_back("cross-field smoothing stopped after " + std::to_string(result.iterations) +
+                                " iterations at relative residual " + std::to_string(result.residual));
+    tbb::parallel_for(tbb::blocked_range<Index>(0, m, kGrain), [&](const tbb::blocked_range<Index>& rg) {
+      for (Index row = rg.begin(); row != rg.end(); ++row) {
+        const std::int32_t i = unknowns[size_t(row)];
+        if (!unreliable[size_t(i)] || std::abs(x[size_t(row)]) < 1e-12) continue;
+        Eigen::Vector3d u, v;
+        tangent_frame(N.col(i), u, v);
+        const double theta = std::arg(x[size_t(row)]) / 4;
+        D.col(i) = std::cos(theta) * u + std::sin(theta) * v;
+      }
+    });
+  }
+  report(progress, 1.0);
+
+  result.points = input;
+  result.points.set_normals(std::move(N));
+  result.points.set_curvatures(std::move(K));
+  result.points.set_directions(std::move(D));
+  result.points.check();
+  return result;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,310 @@
+// PLY reader (Turk's format): ASCII, binary_little_endian and binary_big_endian; CRLF line endings; any elements.
+// Only vertex (x y z [nx ny nz | normal_x ...]) and face (vertex_indices | vertex_index) are kept; other elements
+// such as range_grid or camera are read past.
+#include <bit>
+#include <cstring>
+#include <sstream>
+
+#include "nodes/io/raw_mesh.h"
+
+namespace scanfill::io {
+namespace {
+
+enum class Type { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+
+bool parse_type(const std::string& s, Type& t) {
+  static const std::pair<const char*, Type> kNames[] = {
+      {"char", Type::kInt8},     {"int8", Type::kInt8},       {"uchar", Type::kUint8},    {"uint8", Type::kUint8},
+      {"short", Type::kInt16},   {"int16", Type::kInt16},     {"ushort", Type::kUint16},  {"uint16", Type::kUint16},
+      {"int", Type::kInt32},     {"int32", Type::kInt32},     {"uint", Type::kUint32},    {"uint32", Type::kUint32},
+      {"float", Type::kFloat32}, {"float32", Type::kFloat32}, {"double", Type::kFloat64}, {"float64", Type::kFloat64}};
+  for (const auto& [name, type] : kNames) {
+    if (s == name) {
+      t = type;
+      return true;
+    }
+  }
+  return false;
+}
+
+size_t type_size(Type t) {
+  switch (t) {
+    case Type::kInt8:
+    case Type::kUint8:
+      return 1;
+    case Type::kInt16:
+    case Type::kUint16:
+      return 2;
+    case Type::kInt32:
+    case Type::kUint32:
+    case Type::kFloat32:
+      return 4;
+    case Type::kFloat64:
+      return 8;
+  }
+  return 0;
+}
+
+struct Property {
+  std::string name;
+  Type type = Type::kFloat32;
+  bool is_list = false;
+  Type count_type = Type::kUint8;
+};
+
+struct Element {
+  std::string name;
+  std::int64_t count = 0;
+  std::vector<Property> properties;
+};
+
+enum class Encoding { kAscii, kLittle, kBig };
+
+// Reads one binary scalar at p (bounds checked by the caller) as double.
+double read_binary(const char* p, Type t, bool swap) {
+  char b[8];
+  const size_t n = type_size(t);
+  std::memcpy(b, p, n);
+  if (swap) std::reverse(b, b + n);
+  switch (t) {
+    case Type::kInt8: {
+      std::int8_t v;
+      std::memcpy(&v, b, 1);
+      return v;
+    }
+    case Type::kUint8: {
+      std::uint8_t v;
+      std::memcpy(&v, b, 1);
+      return v;
+    }
+    case Type::kInt16: {
+      std::int16_t v;
+      std::memcpy(&v, b, 2);
+      return v;
+    }
+    case Type::kUint16: {
+      std::uint16_t v;
+      std::memcpy(&v, b, 2);
+      return v;
+    }
+    case Type::kInt32: {
+      std::int32_t v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case Type::kUint32: {
+      std::uint32_t v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case Type::kFloat32: {
+      float v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case Type::kFloat64: {
+      double v;
+      std::memcpy(&v, b, 8);
+      return v;
+    }
+  }
+  return 0;
+}
+
+// Where a vertex/face property goes: a slot of xyz (0-2), normals (3-5), the face list (6), or nowhere (-1).
+int slot_of(const std::string& element, const Property& p) {
+  if (element == "vertex" && !p.is_list) {
+    static const char* kNames[][2] = {{"x", nullptr},     {"y", nullptr},     {"z", nullptr},
+                                      {"nx", "normal_x"}, {"ny", "normal_y"}, {"nz", "normal_z"}};
+    for (int s = 0; s < 6; ++s)
+      if (p.name == kNames[s][0] || (kNames[s][1] && p.name == kNames[s][1])) return s;
+  }
+  if (element == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) return 6;
+  return -1;
+}
+
+}  // namespace
+
+RawMesh read_ply(const std::filesystem::path& path) {
+  const std::string data = read_file(path);
+  // Header: lines up to and including "end_header", each ended by LF or CRLF.
+  size_t pos = 0;
+  int line_no = 0;
+  auto next_line = [&](std::string& line) {
+    if (pos >= data.size()) return false;
+    size_t eol = data.find('\n', pos);
+    if (eol == std::string::npos) eol = data.size();
+    line.assign(data, pos, eol - pos);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    pos = eol + 1;
+    ++line_no;
+    return true;
+  };
+  std::string line;
+  if (!next_line(line) || line != "ply") fail(path, "not a PLY file (first line is not 'ply')");
+  Encoding encoding = Encoding::kAscii;
+  bool have_format = false, have_end = false;
+  std::vector<Element> elements;
+  while (next_line(line)) {
+    std::istringstream ls(line);
+    std::string word;
+    if (!(ls >> word)) continue;
+    const std::string where = "header line " + std::to_string(line_no) + ": ";
+    if (word == "format") {
+      std::string enc, version;
+      ls >> enc >> version;
+      if (enc == "ascii")
+        encoding = Encoding::kAscii;
+      else if (enc == "binary_little_endian")
+        encoding = Encoding::kLittle;
+      else if (enc == "binary_big_endian")
+        encoding = Encoding::kBig;
+      else
+        fail(path, where + "unknown PLY format '" + enc + "'");
+      have_format = true;
+    } else if (word == "element") {
+      Element e;
+      std::string count;
+      ls >> e.name >> count;
+      if (!parse_int(count, e.count) || e.count < 0)
+        fail(path, where + "element '" + e.name + "' has an invalid count '" + count + "'");
+      elements.push_back(std::move(e));
+    } else if (word == "property") {
+      if (elements.empty()) fail(path, where + "property before any element");
+      Property p;
+      std::string type;
+      ls >> type;
+      if (type == "list") {
+        std::string ct, it;
+        ls >> ct >> it >> p.name;
+        p.is_list = true;
+        if (!parse_type(ct, p.count_type) || !parse_type(it, p.type))
+          fail(path, where + "unknown list property types '" + ct + " " + it + "'");
+      } else {
+        ls >> p.name;
+        if (!parse_type(type, p.type)) fail(path, where + "unknown property type '" + type + "'");
+      }
+      if (p.name.empty()) fail(path, where + "property without a name");
+      elements.back().properties.push_back(std::move(p));
+    } else if (word == "end_header") {
+      have_end = true;
+      break;
+    } else if (word != "comment" && word != "obj_info") {
+      fail(path, where + "unexpected '" + word + "'");
+    }
+  }
+  if (!have_end) fail(path, "PLY header has no end_header (truncated?)");
+  if (!have_format) fail(path, "PLY header has no format line");
+
+  RawMesh mesh;
+  mesh.encoding = encoding == Encoding::kAscii    ? "ascii"
+                  : encoding == Encoding::kLittle ? "binary_little_endian"
+                                                  : "binary_big_endian";
+  const Element* vertex = nullptr;
+  for (const Element& e : elements)
+    if (e.name == "vertex") vertex = &e;
+  if (!vertex) fail(path, "PLY has no vertex element");
+  bool has[7] = {};
+  for (const Property& p : vertex->properties) {
+    const int s = slot_of("vertex", p);
+    if (s >= 0) has[s] = true;
+  }
+  if (!has[0] || !has[1] || !has[2]) fail(path, "PLY vertex element lacks x, y or z");
+  const bool want_normals = has[3] && has[4] && has[5];
+  mesh.xyz.reserve(size_t(vertex->count) * 3);
+  if (want_normals) mesh.normals.reserve(size_t(vertex->count) * 3);
+
+  const bool swap = (encoding == Encoding::kLittle) != (std::endian::native == std::endian::little);
+  const char* p = data.data() + std::min(pos, data.size());
+  const char* end = data.data() + data.size();
+  Tokenizer tok(p, end);
+  std::int64_t corners[256];
+  std::vector<std::int64_t> big_polygon;
+  std::int64_t skipped_faces = 0;
+  double values[6] = {};
+
+  for (const Element& e : elements) {
+    const bool is_vertex = &e == vertex;
+    const bool is_face = e.name == "face";
+    std::vector<int> slots;
+    for (const Property& prop : e.properties) slots.push_back(is_vertex || is_face ? slot_of(e.name, prop) : -1);
+    for (std::int64_t r = 0; r < e.count; ++r) {
+      auto truncated = [&] {
+        fail(path, "truncated: element '" + e.name + "' declares " + std::to_string(e.count) +
+                       " records, the data ends at record " + std::to_string(r));
+      };
+      for (size_t pi = 0; pi < e.properties.size(); ++pi) {
+        const Property& prop = e.properties[pi];
+        const int slot = slots[pi];
+        if (!prop.is_list) {
+          double v = 0;
+          if (encoding == Encoding::kAscii) {
+            const std::string_view t = tok.next();
+            if (t.empty()) truncated();
+            if (!parse_double(t, v))
+              fail(path, "line " + std::to_string(line_no + tok.line()) + ": '" + std::string(t) +
+                             "' is not a number (element '" + e.name + "', property '" + prop.name + "')");
+          } else {
+            const size_t n = type_size(prop.type);
+            if (size_t(end - p) < n) truncated();
+            v = read_binary(p, prop.type, swap);
+            p += n;
+          }
+          if (slot >= 0 && slot < 6) values[slot] = v;
+          continue;
+        }
+        // A list property: count, then that many items.
+        double count_d = 0;
+        if (encoding == Encoding::kAscii) {
+          const std::string_view t = tok.next();
+          if (t.empty()) truncated();
+          if (!parse_double(t, count_d)) fail(path, "'" + std::string(t) + "' is not a list count");
+        } else {
+          const size_t n = type_size(prop.count_type);
+          if (size_t(end - p) < n) truncated();
+          count_d = read_binary(p, prop.count_type, swap);
+          p += n;
+        }
+        if (count_d < 0 || count_d != std::floor(count_d))
+          fail(path, "element '" + e.name + "' record " + std::to_string(r) + " has an invalid list count");
+        const auto count = static_cast<size_t>(count_d);
+        std::int64_t* dst = corners;
+        if (slot == 6 && count > 256) {
+          big_polygon.resize(count);
+          dst = big_polygon.data();
+        }
+        for (size_t k = 0; k < count; ++k) {
+          double v = 0;
+          if (encoding == Encoding::kAscii) {
+            const std::string_view t = tok.next();
+            if (t.empty()) truncated();
+            if (!parse_double(t, v)) fail(path, "'" + std::string(t) + "' is not a number in a list");
+          } else {
+            const size_t n = type_size(prop.type);
+            if (size_t(end - p) < n) truncated();
+            if (slot == 6) v = read_binary(p, prop.type, swap);
+            p += n;
+          }
+          if (slot == 6) dst[k] = static_cast<std::int64_t>(v);
+        }
+        if (slot == 6 && !add_polygon(mesh.faces, dst, count)) ++skipped_faces;
+      }
+      if (is_vertex) {
+        mesh.xyz.insert(mesh.xyz.end(), values, values + 3);
+        if (want_normals) mesh.normals.insert(mesh.normals.end(), values + 3, values + 6);
+      }
+    }
+  }
+  if (encoding == Encoding::kAscii) {
+    if (!tok.at_end())
+      fail(path, "data continues after the last declared element (header counts do not match the data)");
+  } else if (p != end) {
+    mesh.warnings.push_back(path.string() + ": " + std::to_string(end - p) +
+                            " bytes after the last declared element were ignored");
+  }
+  if (skipped_faces > 0)
+    mesh.warnings.push_back(std::to_string(skipped_faces) + " faces with fewer than 3 vertices were skipped");
+  return mesh;
+}
+
+}  // namespace scanfill::io

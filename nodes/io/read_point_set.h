@@ -1,0 +1,39 @@
+// load node: reads the point clouds and meshes users have (DESIGN section 4, load).
+//
+// Formats, chosen by the file extension (case-insensitive):
+//   .ply  ASCII and binary (either endianness), CRLF headers, extra elements (range_grid, camera...), n-gon faces
+//   .pcd  ascii, binary, binary_compressed (PCL's reader); organised clouds with NaN holes
+//   .obj  v / vn / f with any index form (v, v/vt, v//vn, v/vt/vn, negative), n-gons
+//   .off  OFF, NOFF, COFF; .stl ASCII and binary (vertices welded); .xyz x y z [nx ny nz]
+// N-gons are split into triangle fans. Non-finite points are dropped, with their faces, and counted. Anything empty,
+// truncated, with wrong counts or out-of-range face indices, or without a finite point throws IoError naming the file.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+
+namespace scanfill {
+
+struct LoadOptions {
+  // Reorder points by Morton code (DESIGN section 7: 2.5-3x faster kd-tree queries); source_index keeps the way back.
+  bool morton_sort = true;
+};
+
+struct LoadResult {
+  PointSet points;
+  std::string format;                 // "ply", "pcd", "obj", "off", "stl", "xyz"
+  std::string encoding;               // "ascii", "binary_little_endian", "binary_compressed", ...
+  Index file_points = 0;              // points (vertices) declared in the file, before dropping non-finite ones
+  Index dropped_nonfinite = 0;        // points dropped because a coordinate was NaN or infinite
+  std::vector<std::string> warnings;  // one line each, ready to show
+};
+
+LoadResult read_point_set(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// True for the extensions read_point_set accepts.
+bool is_supported_extension(const std::filesystem::path& path);
+
+}  // namespace scanfill

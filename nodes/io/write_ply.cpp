@@ -1,0 +1,127 @@
+#include "nodes/io/write_ply.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+namespace {
+
+std::filesystem::path temp_path(const std::filesystem::path& path) {
+  static std::atomic<int> counter{0};
+  std::string name = ".";  // built with += : GCC 12 warns falsely on "." + string (PR 105329)
+  name += path.filename().string();
+  name += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  return path.parent_path() / name;
+}
+
+// Calls write(std::ofstream&) on a temporary file, then renames it over `path`; removes the temporary on failure.
+template <class Write>
+void write_atomic(const std::filesystem::path& path, Write&& write) {
+  const std::filesystem::path tmp = temp_path(path);
+  try {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(path.string() + ": cannot be opened for writing");
+    write(out);
+    out.flush();
+    if (!out) throw IoError(path.string() + ": write failed (disk full?)");
+    out.close();
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw IoError(path.string() + ": cannot be written (" + ec.message() + ")");
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+}
+
+template <class T>
+void put(std::string& buf, T v) {
+  static_assert(std::endian::native == std::endian::little, "big-endian hosts would need byte swapping here");
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  buf.append(b, sizeof(T));
+}
+
+}  // namespace
+
+void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
+  write_atomic(path, [&](std::ofstream& out) { out.write(content.data(), std::streamsize(content.size())); });
+}
+
+void write_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<PlyProperty>& extra) {
+  points.check();
+  const Index n = points.size();
+  for (const PlyProperty& p : extra)
+    if (Index(p.values.size()) != n)
+      throw InvariantError("write_ply: property '" + p.name + "' has " + std::to_string(p.values.size()) +
+                           " values for " + std::to_string(n) + " points");
+  std::ostringstream header;
+  header << "ply\nformat binary_little_endian 1.0\ncomment written by scanfill\n";
+  header << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (points.has_normals()) header << "property float nx\nproperty float ny\nproperty float nz\n";
+  if (points.has_curvatures()) header << "property float k1\nproperty float k2\n";
+  if (points.has_directions()) header << "property float d1x\nproperty float d1y\nproperty float d1z\n";
+  for (const PlyProperty& p : extra) {
+    const char* type = p.type == PlyProperty::Type::kUint8   ? "uchar"
+                       : p.type == PlyProperty::Type::kInt32 ? "int"
+                                                             : "float";
+    header << "property " << type << " " << p.name << "\n";
+  }
+  if (points.has_faces())
+    header << "element face " << points.faces().cols() << "\nproperty list uchar int vertex_indices\n";
+  header << "end_header\n";
+
+  write_atomic(path, [&](std::ofstream& out) {
+    const std::string h = header.str();
+    out.write(h.data(), std::streamsize(h.size()));
+    std::string buf;
+    constexpr Index kChunk = 1 << 16;
+    for (Index start = 0; start < n; start += kChunk) {
+      buf.clear();
+      for (Index i = start; i < std::min(n, start + kChunk); ++i) {
+        for (int k = 0; k < 3; ++k) put(buf, float(points.positions()(k, i)));
+        if (points.has_normals())
+          for (int k = 0; k < 3; ++k) put(buf, float(points.normals()(k, i)));
+        if (points.has_curvatures())
+          for (int k = 0; k < 2; ++k) put(buf, float(points.curvatures()(k, i)));
+        if (points.has_directions())
+          for (int k = 0; k < 3; ++k) put(buf, float(points.directions()(k, i)));
+        for (const PlyProperty& p : extra) {
+          const double v = p.values[size_t(i)];
+          switch (p.type) {
+            case PlyProperty::Type::kUint8:
+              put(buf, std::uint8_t(v));
+              break;
+            case PlyProperty::Type::kInt32:
+              put(buf, std::int32_t(v));
+              break;
+            case PlyProperty::Type::kFloat32:
+              put(buf, float(v));
+              break;
+          }
+        }
+      }
+      out.write(buf.data(), std::streamsize(buf.size()));
+    }
+    buf.clear();
+    for (Eigen::Index f = 0; f < points.faces().cols(); ++f) {
+      put(buf, std::uint8_t(3));
+      for (int k = 0; k < 3; ++k) put(buf, std::int32_t(points.faces()(k, f)));
+      if (buf.size() > (1u << 20)) {
+        out.write(buf.data(), std::streamsize(buf.size()));
+        buf.clear();
+      }
+    }
+    out.write(buf.data(), std::streamsize(buf.size()));
+  });
+}
+
+}  // namespace scanfill

@@ -1,0 +1,135 @@
+#include "nodes/procedural/shapes.h"
+
+#include <cmath>
+#include <functional>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+namespace {
+
+// A grid surface p(s, t), s in [0, 1] (wrapping when `wrap_s`), t in [0, 1]; triangles wound so that
+// (dp/ds x dp/dt) is the outward side.
+struct MeshBuilder {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<Eigen::Vector3i> f;
+
+  void grid(const std::function<Eigen::Vector3d(double, double)>& p, int ns, int nt, bool wrap_s) {
+    const int base = int(v.size());
+    const int cols = wrap_s ? ns : ns + 1;
+    for (int j = 0; j <= nt; ++j)
+      for (int i = 0; i < cols; ++i) v.push_back(p(double(i) / ns, double(j) / nt));
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < ns; ++i) {
+        const int i1 = wrap_s ? (i + 1) % ns : i + 1;
+        const int a = base + j * cols + i, b = base + j * cols + i1, c = base + (j + 1) * cols + i1,
+                  d = base + (j + 1) * cols + i;
+        f.emplace_back(a, b, c);
+        f.emplace_back(a, c, d);
+      }
+  }
+
+  PointSet build() const {
+    Eigen::Matrix3Xd P(3, Index(v.size()));
+    for (size_t i = 0; i < v.size(); ++i) P.col(Index(i)) = v[i];
+    Matrix3Xi F(3, Index(f.size()));
+    for (size_t i = 0; i < f.size(); ++i) F.col(Index(i)) = f[i];
+    PointSet ps(std::move(P));
+    ps.set_faces(std::move(F));
+    ps.check();
+    return ps;
+  }
+};
+
+void add_sphere(MeshBuilder& m, const Eigen::Vector3d& c, double r, int segments) {
+  // s = longitude, t = colatitude from the south pole: ds x dt points outward for this order.
+  m.grid(
+      [&](double s, double t) {
+        const double phi = 2 * M_PI * s, th = M_PI * (1 - t);
+        return Eigen::Vector3d(
+            c + r * Eigen::Vector3d(std::sin(th) * std::cos(phi), std::sin(th) * std::sin(phi), std::cos(th)));
+      },
+      segments, segments / 2, true);
+}
+
+// Profile radius of the vase body at height t in [0, 1].
+double vase_profile(double t) {
+  return 0.28 + 0.12 * std::sin(M_PI * (0.15 + 0.9 * t)) - 0.06 * std::exp(-std::pow((t - 0.82) / 0.08, 2)) +
+         0.05 * std::exp(-std::pow((t - 1.0) / 0.03, 2));
+}
+
+PointSet vase(int flutes, int beads, int segments, bool ornaments) {
+  MeshBuilder m;
+  const int rings = segments;
+  m.grid(
+      [&](double s, double t) {
+        const double phi = 2 * M_PI * s;
+        double r = vase_profile(t);
+        // Flutes: grooves that fade out towards the foot and the neck.
+        if (ornaments)
+          r -= 0.018 * std::pow(std::cos(flutes * phi / 2), 8) *
+               std::sin(M_PI * std::clamp((t - 0.12) / 0.62, 0.0, 1.0));
+        return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), t);
+      },
+      segments, rings, true);
+  if (ornaments) {
+    const double rb = 0.028, z = 0.06;
+    const double R = vase_profile(z) + rb * 0.6;
+    for (int b = 0; b < beads; ++b) {
+      const double phi = 2 * M_PI * b / beads;
+      add_sphere(m, Eigen::Vector3d(R * std::cos(phi), R * std::sin(phi), z), rb, 24);
+    }
+  }
+  return m.build();
+}
+
+}  // namespace
+
+PointSet make_plane(double size, int segments) {
+  MeshBuilder m;
+  m.grid([&](double s, double t) { return Eigen::Vector3d((s - 0.5) * size, (t - 0.5) * size, 0); }, segments, segments,
+         false);
+  return m.build();
+}
+
+PointSet make_sphere(double radius, int segments) {
+  MeshBuilder m;
+  add_sphere(m, Eigen::Vector3d::Zero(), radius, segments);
+  return m.build();
+}
+
+PointSet make_cylinder(double radius, double height, int segments) {
+  MeshBuilder m;
+  m.grid(
+      [&](double s, double t) {
+        const double phi = 2 * M_PI * s;
+        return Eigen::Vector3d(radius * std::cos(phi), radius * std::sin(phi), (t - 0.5) * height);
+      },
+      segments, std::max(1, int(segments * height / (2 * M_PI * radius))), true);
+  return m.build();
+}
+
+PointSet make_vase(int flutes, int beads, int segments) {
+  return vase(flutes, beads, segments, true);
+}
+PointSet make_vase_template(int segments) {
+  return vase(0, 0, segments, false);
+}
+
+const std::vector<std::string>& shape_names() {
+  static const std::vector<std::string> names{"plane", "sphere", "cylinder", "vase", "vase_template"};
+  return names;
+}
+
+PointSet make_shape(const std::string& name) {
+  if (name == "plane") return make_plane(1.0, 64);
+  if (name == "sphere") return make_sphere(0.5, 128);
+  if (name == "cylinder") return make_cylinder(0.3, 1.0, 128);
+  if (name == "vase") return make_vase();
+  if (name == "vase_template") return make_vase_template();
+  std::string valid;
+  for (const auto& n : shape_names()) valid += (valid.empty() ? "" : ", ") + n;
+  throw InputError("unknown procedural shape '" + name + "' (valid: " + valid + ")");
+}
+
+}  // namespace scanfill

@@ -1,0 +1,30 @@
+// Procedural meshes with known geometry: test fixtures with known answers (curvature of a sphere, a cylinder, a
+// plane) and the bundled default example (an ornamented vase and its plain cylinder template), so that scanfill runs
+// without downloaded data.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+
+namespace scanfill {
+
+// Square in the z = 0 plane, side `size`, centred at the origin, normals +z; `segments` quads per side.
+PointSet make_plane(double size, int segments);
+// Sphere of `radius` at the origin, latitude-longitude triangulation, outward winding.
+PointSet make_sphere(double radius, int segments);
+// Open cylinder of `radius` and `height` along z, centred at the origin, outward winding.
+PointSet make_cylinder(double radius, double height, int segments);
+// Ornamented vase, axis z, base at z = 0, height 1: a body of revolution with `flutes` vertical grooves, a rolled rim,
+// and a ring of `beads` spheres around the foot. The structure the analogy finds: repeated flutes and beads.
+PointSet make_vase(int flutes = 12, int beads = 16, int segments = 192);
+// The vase's structural template: its body of revolution without flutes or beads.
+PointSet make_vase_template(int segments = 192);
+
+// Shape by name ("plane", "sphere", "cylinder", "vase", "vase_template"), with default sizes; throws InputError for
+// an unknown name, listing the valid ones.
+PointSet make_shape(const std::string& name);
+const std::vector<std::string>& shape_names();
+
+}  // namespace scanfill

@@ -1,0 +1,299 @@
+#include "nodes/sample/sample.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+constexpr Index kBlock = 4096;  // fixed block size: work split never depends on the thread count
+
+// Mean NN distance of WSE output is sqrt(kSpacingFactor * A / N); measured on planes and spheres (sample_test).
+constexpr double kSpacingFactor = 0.80;
+
+std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+struct Candidates {
+  Eigen::Matrix3Xd positions;
+  Eigen::Matrix3Xd normals;  // 3 by 0 when unknown
+  VectorXi32 face;           // mesh candidates
+  Eigen::Matrix3Xd bary;
+  VectorXi64 source;  // cloud candidates: index in the input
+};
+
+Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed, double& area) {
+  const auto& P = mesh.positions();
+  const auto& F = mesh.faces();
+  const Index nf = F.cols();
+  std::vector<double> cumulative(static_cast<size_t>(nf));
+  Eigen::Matrix3Xd face_normal(3, nf);
+  double total = 0;
+  for (Index f = 0; f < nf; ++f) {
+    const Eigen::Vector3d c = (P.col(F(1, f)) - P.col(F(0, f))).cross(P.col(F(2, f)) - P.col(F(0, f)));
+    const double a = 0.5 * c.norm();
+    face_normal.col(f) = a > 0 ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d::Zero();
+    total += a;
+    cumulative[size_t(f)] = total;
+  }
+  area = total;
+  if (!(total > 0)) throw InputError("mesh has zero surface area; nothing to sample");
+  Candidates c;
+  c.positions.resize(3, m);
+  c.normals.resize(3, m);
+  c.face.resize(m);
+  c.bary.resize(3, m);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
+    // One generator per fixed block, seeded from (seed, block): the same candidates on any thread count.
+    std::mt19937_64 rng(splitmix(seed ^ splitmix(std::uint64_t(r.begin() / kBlock))));
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      const double pick = u01(rng) * total;
+      Index f = std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
+      f = std::min(f, nf - 1);
+      const double s = std::sqrt(u01(rng)), t = u01(rng);
+      const Eigen::Vector3d b(1 - s, s * (1 - t), s * t);
+      c.face(i) = std::int32_t(f);
+      c.bary.col(i) = b;
+      c.positions.col(i) = b(0) * P.col(F(0, f)) + b(1) * P.col(F(1, f)) + b(2) * P.col(F(2, f));
+      Eigen::Vector3d n = face_normal.col(f);
+      if (mesh.has_normals()) {
+        const Eigen::Vector3d vn = b(0) * mesh.normals().col(F(0, f)) + b(1) * mesh.normals().col(F(1, f)) +
+                                   b(2) * mesh.normals().col(F(2, f));
+        if (vn.norm() > 1e-12) n = vn.normalized();
+      }
+      c.normals.col(i) = n;
+    }
+  });
+  return c;
+}
+
+// Area of a cloud: each point covers pi r^2 / k, r its distance to the k-th neighbour (k = 12, exact on a grid).
+double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
+  constexpr int k = 12;
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<Index>(0, P.cols(), kBlock), 0.0,
+      [&](const tbb::blocked_range<Index>& r, double acc) {
+        std::int32_t idx[k + 1];
+        double d2[k + 1];
+        for (Index i = r.begin(); i != r.end(); ++i) {
+          const int found = tree.knn(P.col(i), k + 1, idx, d2);
+          acc += M_PI * d2[found - 1] / double(found - 1);
+        }
+        return acc;
+      },
+      std::plus<double>());
+}
+
+}  // namespace
+
+Index count_for_spacing(double area, double spacing) {
+  return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
+}
+
+SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress) {
+  input.check();
+  SampleResult result;
+  const bool mesh = input.has_faces();
+  if (input.size() < 3)
+    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(input.size()));
+
+  // Candidates and the area they cover.
+  Candidates cand;
+  KdTree input_tree;
+  Index n_target = options.count;
+  if (mesh) {
+    result.area = surface_area(input.positions(), input.faces());
+    if (!(result.area > 0)) throw InputError("mesh has zero surface area; nothing to sample");
+    if (options.spacing > 0) n_target = count_for_spacing(result.area, options.spacing);
+    const Index m = std::max<Index>(n_target + 1, Index(std::ceil(options.oversampling * double(n_target))));
+    cand = mesh_candidates(input, m, options.seed, result.area);
+  } else {
+    input_tree.build(input.positions());
+    result.area = cloud_area(input.positions(), input_tree);
+    if (options.spacing > 0) n_target = count_for_spacing(result.area, options.spacing);
+    if (n_target > input.size()) {
+      if (options.spacing > 0)
+        throw InputError("sample spacing " + std::to_string(options.spacing) + " asks for " + std::to_string(n_target) +
+                         " samples but the cloud has only " + std::to_string(input.size()) +
+                         " points: use a larger spacing");
+      throw InputError("cannot draw " + std::to_string(n_target) + " samples from a cloud of " +
+                       std::to_string(input.size()) + " points: use a smaller count");
+    }
+    cand.positions = input.positions();
+    cand.normals = input.normals();
+    cand.source =
+        input.has_source_index() ? input.source_index() : VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
+  }
+  report(progress, 0.1);
+  const Index m = cand.positions.cols();
+  result.candidates = m;
+  result.r_max = std::sqrt(result.area / (2.0 * std::sqrt(3.0) * double(n_target)));
+  const double d_max = 2.0 * result.r_max;
+  const double cos_limit = std::cos(options.normal_angle_deg * M_PI / 180.0);
+  const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
+  const double exponent = options.weight_exponent;
+
+  // Neighbour lists within d_max (CSR), built per fixed block and concatenated: deterministic.
+  KdTree tree;
+  tree.build(cand.positions);
+  const Index n_blocks = (m + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::int32_t>> block_adj(static_cast<size_t>(n_blocks));
+  std::vector<std::int64_t> degree(size_t(m) + 1, 0);
+  std::vector<double> weight(size_t(m), 0.0);
+  auto contribution = [&](Index i, Index j) {
+    const double d = (cand.positions.col(i) - cand.positions.col(j)).norm();
+    return std::pow(std::max(0.0, 1.0 - d / d_max), exponent);
+  };
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n_blocks, 1), [&](const tbb::blocked_range<Index>& br) {
+    std::vector<Neighbor> hits;
+    for (Index b = br.begin(); b != br.end(); ++b) {
+      auto& adj = block_adj[size_t(b)];
+      for (Index i = b * kBlock; i < std::min(m, (b + 1) * kBlock); ++i) {
+        tree.radius(cand.positions.col(i), d_max, hits);
+        std::sort(hits.begin(), hits.end(), [](const Neighbor& a, const Neighbor& c) { return a.index < c.index; });
+        double w = 0;
+        for (const Neighbor& h : hits) {
+          if (h.index == i) continue;
+          if (use_normals && cand.normals.col(i).dot(cand.normals.col(h.index)) < cos_limit) continue;
+          adj.push_back(h.index);
+          ++degree[size_t(i) + 1];
+          w += std::pow(1.0 - std::sqrt(h.distance2) / d_max, exponent);
+        }
+        weight[size_t(i)] = w;
+      }
+    }
+  });
+  std::partial_sum(degree.begin(), degree.end(), degree.begin());
+  std::vector<std::int32_t> adjacency(size_t(degree.back()));
+  tbb::parallel_for(Index(0), n_blocks, [&](Index b) {
+    std::copy(block_adj[size_t(b)].begin(), block_adj[size_t(b)].end(),
+              adjacency.begin() + degree[size_t(std::min(m, b * kBlock))]);
+    std::vector<std::int32_t>().swap(block_adj[size_t(b)]);
+  });
+  report(progress, 0.3);
+
+  // Parallel elimination rounds.
+  std::vector<std::uint8_t> alive(size_t(m), 1), dirty(size_t(m), 0), remove(size_t(m), 0);
+  Index alive_count = m;
+  const Index excess0 = m - n_target;
+  std::vector<double> scratch;
+  std::vector<Index> maxima;
+  auto heavier = [&](Index a, Index b) {  // strict order on (weight, index)
+    return weight[size_t(a)] > weight[size_t(b)] || (weight[size_t(a)] == weight[size_t(b)] && a < b);
+  };
+  while (alive_count > n_target) {
+    const Index excess = alive_count - n_target;
+    // Threshold: the excess-th largest live weight.
+    scratch.clear();
+    for (Index i = 0; i < m; ++i)
+      if (alive[size_t(i)]) scratch.push_back(weight[size_t(i)]);
+    std::nth_element(scratch.begin(), scratch.begin() + (excess - 1), scratch.end(), std::greater<double>());
+    const double tau = scratch[size_t(excess - 1)];
+    tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
+      for (Index i = r.begin(); i != r.end(); ++i) {
+        remove[size_t(i)] = 0;
+        if (!alive[size_t(i)] || weight[size_t(i)] < tau) continue;
+        if (weight[size_t(i)] == 0 && tau == 0) {
+          remove[size_t(i)] = 1;  // isolated candidates: chosen by index below
+          continue;
+        }
+        bool is_max = weight[size_t(i)] > 0;
+        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1] && is_max; ++e) {
+          const Index j = adjacency[size_t(e)];
+          if (alive[size_t(j)] && heavier(j, i)) is_max = false;
+        }
+        remove[size_t(i)] = is_max;
+      }
+    });
+    maxima.clear();
+    for (Index i = 0; i < m; ++i)
+      if (remove[size_t(i)]) maxima.push_back(i);
+    if (Index(maxima.size()) > excess) {
+      std::sort(maxima.begin(), maxima.end(), heavier);
+      for (size_t k = size_t(excess); k < maxima.size(); ++k) remove[size_t(maxima[k])] = 0;
+      maxima.resize(static_cast<size_t>(excess));
+    }
+    if (maxima.empty()) throw InvariantError("sample elimination made no progress");
+    for (Index i : maxima) alive[size_t(i)] = 0;
+    alive_count -= Index(maxima.size());
+    // Neighbours of removed candidates recompute their weight from their live neighbours (a pull: no races).
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, maxima.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const Index i = maxima[k];
+        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1]; ++e)
+          std::atomic_ref<std::uint8_t>(dirty[size_t(adjacency[size_t(e)])]).store(1, std::memory_order_relaxed);
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
+      for (Index i = r.begin(); i != r.end(); ++i) {
+        if (!dirty[size_t(i)]) continue;
+        dirty[size_t(i)] = 0;
+        if (!alive[size_t(i)]) continue;
+        double w = 0;
+        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1]; ++e) {
+          const Index j = adjacency[size_t(e)];
+          if (alive[size_t(j)]) w += contribution(i, j);
+        }
+        weight[size_t(i)] = w;
+      }
+    });
+    ++result.rounds;
+    report(progress, 0.3 + 0.6 * double(excess0 - (alive_count - n_target)) / double(std::max<Index>(excess0, 1)));
+  }
+
+  // Survivors, in Morton order for cache-friendly queries downstream.
+  std::vector<Index> kept;
+  kept.reserve(static_cast<size_t>(n_target));
+  for (Index i = 0; i < m; ++i)
+    if (alive[size_t(i)]) kept.push_back(i);
+  const Index n = Index(kept.size());
+  Eigen::Matrix3Xd pos(3, n);
+  for (Index k = 0; k < n; ++k) pos.col(k) = cand.positions.col(kept[size_t(k)]);
+  const std::vector<Index> order = morton_order(pos);
+  PointSet& out = result.samples;
+  Eigen::Matrix3Xd P(3, n), N(3, use_normals || mesh ? n : 0), B(3, mesh ? n : 0);
+  VectorXi32 F(mesh ? n : 0);
+  VectorXi64 S(mesh ? 0 : n);
+  for (Index k = 0; k < n; ++k) {
+    const Index c = kept[size_t(order[size_t(k)])];
+    P.col(k) = cand.positions.col(c);
+    if (N.cols()) N.col(k) = cand.normals.col(c);
+    if (mesh) {
+      F(k) = cand.face(c);
+      B.col(k) = cand.bary.col(c);
+    } else {
+      S(k) = cand.source(c);
+    }
+  }
+  out.set_positions(std::move(P));
+  if (N.cols()) out.set_normals(std::move(N));
+  if (mesh)
+    out.set_face_provenance(std::move(F), std::move(B));
+  else
+    out.set_source_index(std::move(S));
+  out.set_viewpoint(input.viewpoint());
+  out.check();
+  KdTree out_tree;
+  out_tree.build(out.positions());
+  if (n >= 2) result.spacing = mean_nearest_neighbor_distance(out.positions(), out_tree);
+  report(progress, 1.0);
+  return result;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,49 @@
+// sample node: Poisson-disk sampling by weighted sample elimination (Yuksel 2015; paper section 3; DESIGN section 4).
+//
+// Candidates are the input points of a cloud, or `oversampling` x N area-weighted random points on a mesh's triangles.
+// Each candidate i has weight w_i = sum_j (1 - d_ij / d_max)^weight_exponent over neighbours j within d_max = 2 r_max,
+// r_max = sqrt(A / (2 sqrt(3) N)); candidates are eliminated heaviest first, their neighbours' weights updated, until N
+// remain. A neighbour counts only if its normal agrees within normal_angle_deg, so both sides of thin parts survive.
+//
+// Deviation from the paper's sequential max-heap: elimination runs in parallel rounds. A round removes every candidate
+// that is a local maximum of (weight, index) among its live neighbours and whose weight is at least the excess-th
+// largest live weight; the sequential greedy would also remove each such candidate before any of its neighbours, so
+// the rounds follow the greedy closely, and the result does not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/progress.h"
+
+namespace scanfill {
+
+struct SampleOptions {
+  double spacing = 0.0;            // target mean nearest-neighbour distance (alpha), model units; 0 = use count; >= 0
+  Index count = 20000;             // number of samples when spacing is 0; >= 1
+  double oversampling = 6.0;       // mesh candidates per output sample (Yuksel recommends 5-10); [2, 100]
+  double normal_angle_deg = 60.0;  // neighbours with normals further apart than this do not repel; (0, 180]
+  double weight_exponent = 8.0;    // exponent of (1 - d/d_max) in the elimination weight; (0, 64]
+  std::uint64_t seed = 1;          // seed of the mesh candidate generator
+};
+
+struct SampleResult {
+  PointSet samples;      // positions, normals (when known), provenance (face + barycentrics, or source_index)
+  Index candidates = 0;  // candidates the elimination started from
+  double area = 0.0;     // surface area used for r_max (exact for meshes, estimated for clouds)
+  double r_max = 0.0;    // Poisson-disk radius bound of the paper
+  double spacing = 0.0;  // mean nearest-neighbour distance of the samples (alpha)
+  int rounds = 0;        // parallel elimination rounds
+  std::vector<std::string> warnings;
+};
+
+// Throws InputError when the input cannot give what is asked (fewer cloud points than samples, a mesh of zero area).
+SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress = {});
+
+// Sample count that gives a mean nearest-neighbour distance of `spacing` on a surface of `area` (measured on WSE
+// output, see tests/nodes/sample_test.cpp).
+Index count_for_spacing(double area, double spacing);
+
+}  // namespace scanfill
