@@ -49,8 +49,8 @@ RawMesh read_off(const std::filesystem::path& path) {
   std::vector<std::int64_t> corners;
   std::int64_t skipped = 0;
   for (std::int64_t f = 0; f < counts[1]; ++f) {
-    const int line = tok.line();
     const double n = number("face", f);
+    const int line = tok.line();
     if (n < 0 || n != std::floor(n)) fail(path, "line " + std::to_string(line) + ": invalid face size");
     corners.resize(static_cast<size_t>(n));
     for (auto& c : corners) c = std::int64_t(number("face", f));

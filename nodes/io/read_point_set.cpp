@@ -154,13 +154,15 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
                               " points have non-finite coordinates and were dropped");
   if (dropped_faces > 0)
     result.warnings.push_back(std::to_string(dropped_faces) + " faces used dropped points and were dropped");
-  if (bad_normals > 0) {
-    result.warnings.push_back(std::to_string(bad_normals) + " points have zero or non-finite normals; normals ignored");
-  }
+  // A few broken normals (some writers emit zeros) keep the rest; many mean the normals are not to be trusted.
+  const bool keep_normals = has_normals && bad_normals * 100 <= kept;
+  if (bad_normals > 0)
+    result.warnings.push_back(std::to_string(bad_normals) + " points have zero or non-finite normals; " +
+                              (keep_normals ? "kept as zero vectors" : "all normals ignored"));
 
   PointSet& ps = result.points;
   ps.set_positions(std::move(positions));
-  if (has_normals && bad_normals == 0) ps.set_normals(std::move(normals));
+  if (keep_normals) ps.set_normals(std::move(normals));
   if (!tris.empty()) ps.set_faces(Eigen::Map<const Matrix3Xi>(tris.data(), 3, Eigen::Index(tris.size() / 3)));
   ps.set_source_index(std::move(source_index));
   ps.set_viewpoint(raw.viewpoint);

@@ -20,7 +20,7 @@ namespace {
 constexpr Index kBlock = 4096;  // fixed block size: work split never depends on the thread count
 
 // Mean NN distance of WSE output is sqrt(kSpacingFactor * A / N); measured on planes and spheres (sample_test).
-constexpr double kSpacingFactor = 0.80;
+constexpr double kSpacingFactor = 0.64;
 
 std::uint64_t splitmix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -84,20 +84,24 @@ Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed, do
 }
 
 // Area of a cloud: each point covers pi r^2 / k, r its distance to the k-th neighbour (k = 12, exact on a grid).
+// Summed over every stride-th point (at most ~2^17 of them) and scaled: enough for a count, cheap on 10^7 points.
 double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
   constexpr int k = 12;
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<Index>(0, P.cols(), kBlock), 0.0,
+  const Index stride = std::max<Index>(1, P.cols() >> 17);
+  const Index n = (P.cols() + stride - 1) / stride;
+  const double sum = tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<Index>(0, n, kBlock), 0.0,
       [&](const tbb::blocked_range<Index>& r, double acc) {
         std::int32_t idx[k + 1];
         double d2[k + 1];
-        for (Index i = r.begin(); i != r.end(); ++i) {
-          const int found = tree.knn(P.col(i), k + 1, idx, d2);
+        for (Index s = r.begin(); s != r.end(); ++s) {
+          const int found = tree.knn(P.col(s * stride), k + 1, idx, d2);
           acc += M_PI * d2[found - 1] / double(found - 1);
         }
         return acc;
       },
       std::plus<double>());
+  return sum * double(P.cols()) / double(n);
 }
 
 }  // namespace
@@ -149,17 +153,32 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
   const double exponent = options.weight_exponent;
 
+  // Weights are fixed-point integers (2^-40 units): sums and the atomic subtractions of the parallel rounds are then
+  // exact and order-independent, so the result is the same on any number of threads.
+  constexpr double kScale = double(std::int64_t(1) << 40);
+  const int int_exponent = int(exponent);
+  const bool integral = double(int_exponent) == exponent;
+  auto contribution = [&](Index i, Index j) -> std::int64_t {
+    const double x = std::max(0.0, 1.0 - (cand.positions.col(i) - cand.positions.col(j)).norm() / d_max);
+    double w = 1.0;
+    if (integral) {
+      double base = x;
+      for (int e = int_exponent; e > 0; e >>= 1, base *= base)
+        if (e & 1) w *= base;
+    } else {
+      w = std::pow(x, exponent);
+    }
+    return std::llround(w * kScale);
+  };
+
   // Neighbour lists within d_max (CSR), built per fixed block and concatenated: deterministic.
-  KdTree tree;
-  tree.build(cand.positions);
+  KdTree mesh_tree;
+  if (mesh) mesh_tree.build(cand.positions);
+  const KdTree& tree = mesh ? mesh_tree : input_tree;  // a cloud's candidates are its points: reuse its tree
   const Index n_blocks = (m + kBlock - 1) / kBlock;
   std::vector<std::vector<std::int32_t>> block_adj(static_cast<size_t>(n_blocks));
   std::vector<std::int64_t> degree(size_t(m) + 1, 0);
-  std::vector<double> weight(size_t(m), 0.0);
-  auto contribution = [&](Index i, Index j) {
-    const double d = (cand.positions.col(i) - cand.positions.col(j)).norm();
-    return std::pow(std::max(0.0, 1.0 - d / d_max), exponent);
-  };
+  std::vector<std::int64_t> weight(static_cast<size_t>(m), 0);
   tbb::parallel_for(tbb::blocked_range<Index>(0, n_blocks, 1), [&](const tbb::blocked_range<Index>& br) {
     std::vector<Neighbor> hits;
     for (Index b = br.begin(); b != br.end(); ++b) {
@@ -167,13 +186,13 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
       for (Index i = b * kBlock; i < std::min(m, (b + 1) * kBlock); ++i) {
         tree.radius(cand.positions.col(i), d_max, hits);
         std::sort(hits.begin(), hits.end(), [](const Neighbor& a, const Neighbor& c) { return a.index < c.index; });
-        double w = 0;
+        std::int64_t w = 0;
         for (const Neighbor& h : hits) {
           if (h.index == i) continue;
           if (use_normals && cand.normals.col(i).dot(cand.normals.col(h.index)) < cos_limit) continue;
           adj.push_back(h.index);
           ++degree[size_t(i) + 1];
-          w += std::pow(1.0 - std::sqrt(h.distance2) / d_max, exponent);
+          w += contribution(i, h.index);
         }
         weight[size_t(i)] = w;
       }
@@ -189,10 +208,12 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   report(progress, 0.3);
 
   // Parallel elimination rounds.
-  std::vector<std::uint8_t> alive(size_t(m), 1), dirty(size_t(m), 0), remove(size_t(m), 0);
+  std::vector<std::uint8_t> alive(static_cast<size_t>(m), 1), remove(static_cast<size_t>(m), 0);
+  // A live heavier neighbour found in an earlier round: weights only fall, so it usually still blocks, in O(1).
+  std::vector<std::int32_t> blocker(static_cast<size_t>(m), -1);
   Index alive_count = m;
   const Index excess0 = m - n_target;
-  std::vector<double> scratch;
+  std::vector<std::int64_t> scratch;
   std::vector<Index> maxima;
   auto heavier = [&](Index a, Index b) {  // strict order on (weight, index)
     return weight[size_t(a)] > weight[size_t(b)] || (weight[size_t(a)] == weight[size_t(b)] && a < b);
@@ -203,20 +224,24 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     scratch.clear();
     for (Index i = 0; i < m; ++i)
       if (alive[size_t(i)]) scratch.push_back(weight[size_t(i)]);
-    std::nth_element(scratch.begin(), scratch.begin() + (excess - 1), scratch.end(), std::greater<double>());
-    const double tau = scratch[size_t(excess - 1)];
+    std::nth_element(scratch.begin(), scratch.begin() + (excess - 1), scratch.end(), std::greater<std::int64_t>());
+    const std::int64_t tau = scratch[size_t(excess - 1)];
     tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
       for (Index i = r.begin(); i != r.end(); ++i) {
         remove[size_t(i)] = 0;
         if (!alive[size_t(i)] || weight[size_t(i)] < tau) continue;
-        if (weight[size_t(i)] == 0 && tau == 0) {
-          remove[size_t(i)] = 1;  // isolated candidates: chosen by index below
+        if (weight[size_t(i)] == 0) {
+          remove[size_t(i)] = 1;  // isolated candidates (tau == 0): chosen by index below
           continue;
         }
-        bool is_max = weight[size_t(i)] > 0;
+        if (const auto b = blocker[size_t(i)]; b >= 0 && alive[size_t(b)] && heavier(b, i)) continue;
+        bool is_max = true;
         for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1] && is_max; ++e) {
           const Index j = adjacency[size_t(e)];
-          if (alive[size_t(j)] && heavier(j, i)) is_max = false;
+          if (alive[size_t(j)] && heavier(j, i)) {
+            is_max = false;
+            blocker[size_t(i)] = std::int32_t(j);
+          }
         }
         remove[size_t(i)] = is_max;
       }
@@ -226,31 +251,20 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
       if (remove[size_t(i)]) maxima.push_back(i);
     if (Index(maxima.size()) > excess) {
       std::sort(maxima.begin(), maxima.end(), heavier);
-      for (size_t k = size_t(excess); k < maxima.size(); ++k) remove[size_t(maxima[k])] = 0;
       maxima.resize(static_cast<size_t>(excess));
     }
     if (maxima.empty()) throw InvariantError("sample elimination made no progress");
     for (Index i : maxima) alive[size_t(i)] = 0;
     alive_count -= Index(maxima.size());
-    // Neighbours of removed candidates recompute their weight from their live neighbours (a pull: no races).
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, maxima.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    // Push: each removed candidate subtracts its contribution from its live neighbours (integer atomics: exact).
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, maxima.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k != r.end(); ++k) {
         const Index i = maxima[k];
-        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1]; ++e)
-          std::atomic_ref<std::uint8_t>(dirty[size_t(adjacency[size_t(e)])]).store(1, std::memory_order_relaxed);
-      }
-    });
-    tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
-      for (Index i = r.begin(); i != r.end(); ++i) {
-        if (!dirty[size_t(i)]) continue;
-        dirty[size_t(i)] = 0;
-        if (!alive[size_t(i)]) continue;
-        double w = 0;
         for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1]; ++e) {
           const Index j = adjacency[size_t(e)];
-          if (alive[size_t(j)]) w += contribution(i, j);
+          if (alive[size_t(j)])
+            std::atomic_ref<std::int64_t>(weight[size_t(j)]).fetch_sub(contribution(i, j), std::memory_order_relaxed);
         }
-        weight[size_t(i)] = w;
       }
     });
     ++result.rounds;

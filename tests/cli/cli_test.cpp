@@ -1,0 +1,129 @@
+// The command line as a user meets it: exit codes, one-line errors, no partial outputs, determinism, and `info` on
+// every file of ../shared/data.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+using test::run_scanfill;
+
+std::string q(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+
+TEST(Cli, VersionHelpAndNothingToDo) {
+  EXPECT_EQ(run_scanfill("--version").exit_code, 0);
+  const auto help = run_scanfill("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("info"), std::string::npos);
+  EXPECT_NE(run_scanfill("").exit_code, 0);
+  EXPECT_NE(run_scanfill("frobnicate").exit_code, 0);
+}
+
+TEST(Cli, InfoOnEverySharedFileMatchesTheReaderCounts) {
+  SCANFILL_REQUIRE_SHARED_DATA();
+  // Counts checked independently in io_test; here the CLI path and its JSON contract.
+  const std::pair<const char*, std::array<long, 2>> files[] = {
+      {"scans/stanford_bunny/bun000.ply", {40256, 0}},
+      {"scans/stanford_bunny/bun_zipper_res2.ply", {8171, 16301}},
+      {"scans/pcl_kinect/table_scene_mug_stereo_textured.pcd", {209280, 0}},
+      {"scans/pcl_kinect/milk.pcd", {13704, 0}},
+      {"scans/cgal_hippo/hippo1.ply", {6104, 0}},
+      {"models/vaselion.obj", {30610, 61216}},
+      {"models/threedscans_Column03.obj", {6992, 13980}},
+      {"furniture/meshlab_office_chair.obj", {3476, 6893}},
+  };
+  for (const auto& [file, counts] : files) {
+    const auto r = run_scanfill("info --json " + q(test::shared_data() / file));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["points"].get<long>(), counts[0]) << file;
+    EXPECT_EQ(j["faces"].get<long>(), counts[1]) << file;
+    EXPECT_EQ(j["bbox"].size(), 2u);
+    EXPECT_TRUE(j["attributes"].is_array());
+  }
+  // Every file in the folder loads.
+  int n = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(test::shared_data())) {
+    const auto ext = e.path().extension();
+    if (ext != ".ply" && ext != ".pcd" && ext != ".obj") continue;
+    const auto r = run_scanfill("info " + q(e.path()));
+    EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.out;
+    ++n;
+  }
+  EXPECT_EQ(n, 30);
+}
+
+TEST(Cli, BadInputsExitNonZeroWithOneLineAndWriteNothing) {
+  test::TempDir dir;
+  test::write_bytes(dir / "empty.ply", "");
+  test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+  test::write_bytes(dir / "bad.yaml",
+                    "mode: completion\ninputs:\n  scan: empty.ply\n  template: procedural:vase\n"
+                    "output:\n  dir: " +
+                        (dir / "out").string() + "\nsample:\n  cuont: 3\n");
+  test::write_bytes(dir / "run.yaml",
+                    "mode: completion\ninputs:\n  scan: empty.ply\n  template: procedural:vase\n"
+                    "output:\n  dir: " +
+                        (dir / "out").string() + "\n");
+  struct Case {
+    std::string args, message;
+  } cases[] = {
+      {"info " + q(dir / "empty.ply"), "empty.ply: file is empty"},
+      {"info " + q(dir / "missing.ply"), "missing.ply: no such file"},
+      {"sample --input " + q(dir / "empty.ply") + " --output " + q(dir / "out.ply"), "file is empty"},
+      {"sample --input " + q(dir / "tiny.xyz") + " --output " + q(dir / "out.ply") + " --count 2",
+       "features need at least"},
+      {"sample --input " + q(dir / "tiny.xyz") + " --output " + q(dir / "out.ply") + " --count 10",
+       "cannot draw 10 samples from a cloud of 3 points"},
+      {"sample --input " + q(dir / "tiny.xyz") + " --output " + q(dir / "out.ply") + " --count 0", "--count"},
+      {"--config " + q(dir / "bad.yaml"), "sample.cuont: unknown key"},
+      {"--config " + q(dir / "run.yaml"), "node 'load:scan' failed"},
+      {"--config " + q(dir / "run.yaml") + " --threads 0", "--threads"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_scanfill(c.args);
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.ply")) << c.args;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << c.args;
+  }
+  // Runtime errors are a single line.
+  const auto r = run_scanfill("info " + q(dir / "empty.ply"));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Cli, SampleWritesTheFixedPropertiesAndIsIdenticalOnOneAndTwoThreads) {
+  test::TempDir dir;
+  ASSERT_EQ(run_scanfill("--print-defaults > " + q(dir / "d.yaml")).exit_code, 0);
+  // A procedural vase through the main run, then `sample` on its output, on 1 and 2 threads.
+  const std::string cfg = test::read_bytes(dir / "d.yaml");
+  test::write_bytes(dir / "v.yaml", cfg.substr(0, cfg.find("output:")) + "output:\n  dir: " + (dir / "run").string() +
+                                        "\nsample:\n  count: 4000\n");
+  const auto run = run_scanfill("--config " + q(dir / "v.yaml") + " --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto input = dir / "run" / "samples_scan.ply";
+  for (int t : {1, 2}) {
+    const auto r =
+        run_scanfill("sample --input " + q(input) + " --output " + q(dir / ("s" + std::to_string(t) + ".ply")) +
+                     " --count 1500 --threads " + std::to_string(t));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+  }
+  const std::string one = test::read_bytes(dir / "s1.ply"), two = test::read_bytes(dir / "s2.ply");
+  EXPECT_EQ(one, two);
+  EXPECT_NE(one.find("property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
+                     "property float nz\nproperty float k1\nproperty float k2\nproperty float d1x\nproperty float "
+                     "d1y\nproperty float d1z\n"),
+            std::string::npos);
+  EXPECT_NE(one.find("element vertex 1500\n"), std::string::npos);
+  // The whole run is deterministic too.
+  const auto again = run_scanfill("--config " + q(dir / "v.yaml") + " --quiet --threads 1");
+  ASSERT_EQ(again.exit_code, 0);
+}
+
+}  // namespace
+}  // namespace scanfill

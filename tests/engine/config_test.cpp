@@ -1,0 +1,127 @@
+#include "engine/config.h"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "nodes/core/errors.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+std::string config_error(const test::TempDir& dir, const std::string& yaml) {
+  test::write_bytes(dir / "c.yaml", yaml);
+  try {
+    load_config(dir / "c.yaml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kValidHead = "mode: completion\ninputs:\n  scan: procedural:vase\n  template: procedural:vase_template\n";
+
+TEST(Config, ReadsEveryKeyAndResolvesPathsAgainstTheConfigFile) {
+  test::TempDir dir;
+  test::write_bytes(dir / "scan.xyz", "0 0 0\n");
+  test::write_bytes(dir / "c.yaml",
+                    "mode: completion\ninputs:\n  scan: scan.xyz\n  template: procedural:cylinder\noutput:\n  dir: o\n"
+                    "threads: 1\nsample:\n  count: 500\n  seed: 9\nfeatures:\n  k: 20\n  orientation: viewpoint\n"
+                    "  viewpoint: [1, 2, 3]\n");
+  const RunConfig c = load_config(dir / "c.yaml");
+  ASSERT_EQ(c.inputs.size(), 2u);
+  EXPECT_EQ(c.inputs[0].role, "scan");
+  EXPECT_EQ(c.inputs[0].path, dir / "scan.xyz");
+  EXPECT_EQ(c.inputs[1].procedural, "cylinder");
+  EXPECT_EQ(c.output_dir, "o");
+  EXPECT_EQ(c.threads, 1);
+  EXPECT_EQ(c.sample.count, 500);
+  EXPECT_EQ(c.sample.seed, 9u);
+  EXPECT_EQ(c.features.k, 20);
+  EXPECT_EQ(c.features.orientation, NormalOrientation::kViewpoint);
+  EXPECT_EQ(*c.features.viewpoint, Eigen::Vector3d(1, 2, 3));
+}
+
+TEST(Config, UnknownKeysAreRejectedListingTheValidOnesWithLineAndColumn) {
+  test::TempDir dir;
+  const std::string e = config_error(dir, std::string(kValidHead) + "sample:\n  cuont: 5\n");
+  EXPECT_NE(e.find("c.yaml:6:3: sample.cuont: unknown key (valid: spacing, count,"), std::string::npos) << e;
+  const std::string top = config_error(dir, std::string(kValidHead) + "sampel: {}\n");
+  EXPECT_NE(top.find("c.yaml:5:1: sampel: unknown key (valid: mode, inputs, output,"), std::string::npos) << top;
+}
+
+TEST(Config, EveryProblemIsReportedAtOnceWithoutClamping) {
+  test::TempDir dir;
+  const std::string e = config_error(dir, std::string(kValidHead) +
+                                              "sample:\n  count: 0\n  oversampling: 500\nfeatures:\n  k: 3\n"
+                                              "  umbilic_ratio: abc\n");
+  // Parse errors first (the value that is not a number), then, once values parse, range errors.
+  EXPECT_NE(e.find("features.umbilic_ratio: expected a number, got 'abc'"), std::string::npos) << e;
+  const std::string r =
+      config_error(dir, std::string(kValidHead) + "sample:\n  count: 0\n  oversampling: 500\nfeatures:\n  k: 3\n");
+  EXPECT_NE(r.find("c.yaml:6:10: sample.count: expected an integer >= 1, got 0"), std::string::npos) << r;
+  EXPECT_NE(r.find("sample.oversampling: expected a number in [2, 100], got 500"), std::string::npos) << r;
+  EXPECT_NE(r.find("features.k: expected an integer in [6, 128], got 3"), std::string::npos) << r;
+  EXPECT_EQ(std::count(r.begin(), r.end(), '\n'), 2) << r;  // three problems, one line each
+}
+
+TEST(Config, InputsAreCheckedForTheMode) {
+  test::TempDir dir;
+  EXPECT_NE(config_error(dir, "mode: completion\ninputs:\n  scan: procedural:vase\n")
+                .find("mode 'completion' needs input 'template'"),
+            std::string::npos);
+  EXPECT_NE(config_error(dir, "mode: transfer\ninputs:\n  scan: procedural:vase\n").find("inputs.scan: unknown key"),
+            std::string::npos);
+  EXPECT_NE(config_error(dir, "mode: completion\ninputs:\n  scan: nothere.ply\n  template: procedural:vase\n")
+                .find("inputs.scan: no such file: "),
+            std::string::npos);
+  EXPECT_NE(config_error(dir, "mode: completion\ninputs:\n  scan: procedural:cube\n  template: procedural:vase\n")
+                .find("unknown procedural shape 'cube'"),
+            std::string::npos);
+  EXPECT_NE(config_error(dir, "mode: styling\n").find("mode: expected one of completion, transfer, analogy"),
+            std::string::npos);
+  test::write_bytes(dir / "x.las", "LASF");
+  EXPECT_NE(config_error(dir, "mode: analogy\ninputs:\n  source: x.las\n  target: procedural:vase\n")
+                .find("unknown format '.las'"),
+            std::string::npos);
+}
+
+TEST(Config, BrokenYamlNamesLineAndColumn) {
+  test::TempDir dir;
+  const std::string e = config_error(dir, "mode: completion\ninputs: [a, b\n");
+  EXPECT_NE(e.find("c.yaml:"), std::string::npos);
+  EXPECT_NE(e.find("invalid YAML"), std::string::npos) << e;
+  EXPECT_NE(config_error(dir, "- a\n- b\n").find("expected a map of settings"), std::string::npos);
+}
+
+TEST(Config, PrintedDefaultsAreACompleteValidConfig) {
+  test::TempDir dir;
+  const std::string yaml = default_config_yaml();
+  test::write_bytes(dir / "d.yaml", yaml);
+  const RunConfig c = load_config(dir / "d.yaml");
+  EXPECT_TRUE(validate(c).empty());
+  // Every field of every options struct appears.
+  for (const char* key :
+       {"spacing:", "count:", "oversampling:", "normal_angle_deg:", "weight_exponent:", "seed:", "k:", "orientation:",
+        "viewpoint:", "umbilic_ratio:", "flat_threshold:", "smooth_directions:", "reliable_weight:", "regularization:",
+        "max_iterations:", "tolerance:", "morton_sort:", "threads:"})
+    EXPECT_NE(yaml.find(key), std::string::npos) << key;
+  const SampleOptions defaults;
+  EXPECT_EQ(c.sample.count, defaults.count);
+  EXPECT_EQ(c.sample.oversampling, defaults.oversampling);
+}
+
+TEST(Config, EveryBundledConfigLoadsAndValidates) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::source_dir() / "configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const auto uses_shared = test::read_bytes(entry.path()).find("shared/data") != std::string::npos;
+    if (uses_shared && !std::filesystem::exists(test::shared_data())) continue;
+    EXPECT_NO_THROW(load_config(entry.path())) << entry.path();
+    ++n;
+  }
+  EXPECT_GE(n, 1);
+}
+
+}  // namespace
+}  // namespace scanfill

@@ -1,0 +1,64 @@
+#include "engine/pipeline.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/console.h"
+#include "nodes/core/errors.h"
+#include "nodes/io/read_point_set.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+RunConfig small_config(const std::filesystem::path& out) {
+  RunConfig c;
+  c.mode = "completion";
+  c.inputs = {{"scan", "procedural:vase", {}, "vase"}, {"template", "procedural:vase_template", {}, "vase_template"}};
+  c.output_dir = out;
+  c.sample.count = 3000;
+  return c;
+}
+
+TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  const RunOutcome outcome = run_pipeline(small_config(dir / "out"));
+  ASSERT_EQ(outcome.outputs.size(), 3u);
+  const LoadResult scan = read_point_set(dir / "out" / "samples_scan.ply");
+  EXPECT_EQ(scan.points.size(), 3000);
+  EXPECT_TRUE(scan.points.has_normals());
+  const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
+  EXPECT_EQ(report["mode"], "completion");
+  EXPECT_EQ(report["inputs"]["scan"]["samples"], 3000);
+  EXPECT_GT(report["inputs"]["template"]["points"].get<int>(), 0);
+  EXPECT_GT(report["peak_rss_mb"].get<double>(), 0);
+  std::set<std::string> names;
+  for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
+  for (const char* n :
+       {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template", "write"})
+    EXPECT_TRUE(names.count(n)) << n;
+}
+
+TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");  // loads, too few to sample
+  RunConfig c = small_config(dir / "out");
+  c.inputs[0] = {"scan", "tiny.xyz", dir / "tiny.xyz", ""};
+  c.sample.count = 4;
+  try {
+    run_pipeline(c);
+    FAIL();
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("node 'features:scan' failed on " + (dir / "tiny.xyz").string()), std::string::npos) << what;
+    EXPECT_NE(what.find("at least k + 1 = 17 points"), std::string::npos) << what;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+}  // namespace
+}  // namespace scanfill

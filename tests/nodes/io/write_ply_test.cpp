@@ -1,0 +1,51 @@
+#include "nodes/io/write_ply.h"
+
+#include <gtest/gtest.h>
+
+#include "nodes/core/errors.h"
+#include "nodes/io/read_point_set.h"
+#include "nodes/procedural/shapes.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+TEST(WritePly, RoundTripsPositionsNormalsFacesAndProperties) {
+  test::TempDir dir;
+  PointSet mesh = make_sphere(1.0, 16);
+  Eigen::Matrix3Xd normals = mesh.positions().colwise().normalized();
+  mesh.set_normals(normals);
+  mesh.set_curvatures(Eigen::Matrix2Xd::Ones(2, mesh.size()));
+  std::vector<double> labels(size_t(mesh.size()), 7.0);
+  write_ply(dir / "out.ply", mesh, {{"label", PlyProperty::Type::kInt32, labels}});
+  const std::string head = test::read_bytes(dir / "out.ply").substr(0, 400);
+  EXPECT_NE(head.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(head.find("property float k1\nproperty float k2\n"), std::string::npos);
+  EXPECT_NE(head.find("property int label\n"), std::string::npos);
+  const LoadResult r = read_point_set(dir / "out.ply", {.morton_sort = false});
+  ASSERT_EQ(r.points.size(), mesh.size());
+  EXPECT_EQ(r.points.faces(), mesh.faces());
+  EXPECT_LT((r.points.positions() - mesh.positions()).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((r.points.normals() - mesh.normals()).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(WritePly, FailureLeavesNoFile) {
+  test::TempDir dir;
+  const PointSet p = make_plane(1.0, 2);
+  EXPECT_THROW(write_ply(dir / "missing_folder" / "out.ply", p), IoError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing_folder"));
+  // A property of the wrong length is refused before anything is written.
+  EXPECT_THROW(write_ply(dir / "bad.ply", p, {{"x2", PlyProperty::Type::kFloat32, {1.0}}}), InvariantError);
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(WriteFileAtomic, ReplacesWholeFile) {
+  test::TempDir dir;
+  write_file_atomic(dir / "r.json", "first version, long");
+  write_file_atomic(dir / "r.json", "second");
+  EXPECT_EQ(test::read_bytes(dir / "r.json"), "second");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1);  // no temporaries left
+}
+
+}  // namespace
+}  // namespace scanfill

@@ -1,0 +1,142 @@
+#include "nodes/sample/sample.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <random>
+
+#include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
+#include "nodes/procedural/shapes.h"
+
+namespace scanfill {
+namespace {
+
+// Nearest-neighbour distance of every point.
+std::vector<double> nn_distances(const Eigen::Matrix3Xd& p) {
+  KdTree tree;
+  tree.build(p);
+  std::vector<double> d(static_cast<size_t>(p.cols()));
+  for (Index i = 0; i < p.cols(); ++i) {
+    std::int32_t idx[2];
+    double d2[2];
+    tree.knn(p.col(i), 2, idx, d2);
+    d[size_t(i)] = std::sqrt(d2[1]);
+  }
+  return d;
+}
+
+double mean(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+double min(const std::vector<double>& v) {
+  return *std::min_element(v.begin(), v.end());
+}
+
+TEST(Sample, PoissonDiskPropertyOnAPlane) {
+  const PointSet plane = make_plane(1.0, 20);
+  SampleOptions o;
+  o.count = 4000;
+  const SampleResult r = sample(plane, o);
+  ASSERT_EQ(r.samples.size(), 4000);
+  const auto d = nn_distances(r.samples.positions());
+  EXPECT_GE(min(d), 0.6 * mean(d)) << "min " << min(d) << " mean " << mean(d);
+  // The same number of uniformly random points has a minimum near 0: the property is not automatic.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  Eigen::Matrix3Xd random(3, 4000);
+  for (Index i = 0; i < 4000; ++i) random.col(i) << u(rng), u(rng), 0;
+  const auto dr = nn_distances(random);
+  EXPECT_LT(min(dr), 0.1 * mean(dr));
+}
+
+TEST(Sample, PoissonDiskPropertyOnACloudAndProvenance) {
+  const PointSet dense = make_sphere(1.0, 256);  // 33k vertices used as a cloud
+  const PointSet cloud(dense.positions());
+  SampleOptions o;
+  o.count = 3000;
+  const SampleResult r = sample(cloud, o);
+  ASSERT_EQ(r.samples.size(), 3000);
+  ASSERT_TRUE(r.samples.has_source_index());
+  for (Index i = 0; i < r.samples.size(); ++i)
+    ASSERT_EQ(r.samples.positions().col(i), cloud.positions().col(r.samples.source_index()(i)));
+  // The lat-long vertices crowd at the poles; the samples must not.
+  const auto d = nn_distances(r.samples.positions());
+  EXPECT_GE(min(d), 0.6 * mean(d)) << "min " << min(d) << " mean " << mean(d);
+}
+
+TEST(Sample, MeshSamplesCarryFaceAndBarycentrics) {
+  const PointSet mesh = make_cylinder(0.3, 1.0, 64);
+  const SampleResult r = sample(mesh, {.count = 1000});
+  ASSERT_TRUE(r.samples.has_face_provenance());
+  for (Index i = 0; i < r.samples.size(); ++i) {
+    const auto f = r.samples.source_face()(i);
+    const Eigen::Vector3d b = r.samples.barycentrics().col(i);
+    EXPECT_NEAR(b.sum(), 1.0, 1e-12);
+    const Eigen::Vector3d p = b(0) * mesh.positions().col(mesh.faces()(0, f)) +
+                              b(1) * mesh.positions().col(mesh.faces()(1, f)) +
+                              b(2) * mesh.positions().col(mesh.faces()(2, f));
+    EXPECT_LT((p - r.samples.positions().col(i)).norm(), 1e-12);
+  }
+}
+
+TEST(Sample, SpacingGivesThatMeanNearestNeighbourDistance) {
+  for (const PointSet& shape : {make_plane(1.0, 16), make_sphere(0.5, 96)}) {
+    const double alpha = 0.02;
+    const SampleResult r = sample(shape, {.spacing = alpha});
+    EXPECT_NEAR(r.spacing, alpha, 0.05 * alpha) << r.samples.size() << " samples, area " << r.area << ", factor "
+                                                << r.spacing * r.spacing * double(r.samples.size()) / r.area;
+  }
+}
+
+TEST(Sample, BothSidesOfAThinSheetSurvive) {
+  // Two facing sheets 0.002 apart, far closer than the sample spacing (~0.02), with opposite normals.
+  PointSet top = make_plane(1.0, 8), bottom = make_plane(1.0, 8);
+  Eigen::Matrix3Xd p(3, top.size() * 2);
+  p << top.positions(), bottom.positions();
+  p.block(2, top.size(), 1, top.size()).setConstant(-0.002);
+  Matrix3Xi f(3, top.faces().cols() * 2);
+  Matrix3Xi flipped = bottom.faces();
+  flipped.row(1).swap(flipped.row(2));  // the lower sheet faces down
+  f << top.faces(), (flipped.array() + std::int32_t(top.size())).matrix();
+  PointSet sheet(p);
+  sheet.set_faces(f);
+  const SampleResult r = sample(sheet, {.count = 2000});
+  const Index upper = (r.samples.positions().row(2).array() > -0.001).count();
+  EXPECT_NEAR(double(upper) / 2000.0, 0.5, 0.05);
+}
+
+TEST(Sample, SameSeedSameSamplesOnOneAndTwoThreads) {
+  const PointSet mesh = make_vase();
+  SampleResult one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = sample(mesh, {.count = 5000, .seed = 7});
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = sample(mesh, {.count = 5000, .seed = 7});
+  }
+  EXPECT_EQ(one.samples.positions(), two.samples.positions());
+  EXPECT_EQ(one.samples.source_face(), two.samples.source_face());
+  const SampleResult other = sample(mesh, {.count = 5000, .seed = 8});
+  EXPECT_NE(one.samples.positions(), other.samples.positions());
+}
+
+TEST(Sample, RefusesWhatTheInputCannotGive) {
+  const PointSet cloud(make_plane(1.0, 9).positions());  // 100 points
+  EXPECT_THROW(sample(cloud, {.count = 101}), InputError);
+  try {
+    sample(cloud, {.spacing = 1e-4});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("use a larger spacing"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(sample(PointSet(Eigen::Matrix3Xd::Zero(3, 2)), {}), InputError);
+  PointSet flat(Eigen::Matrix3Xd::Zero(3, 3));
+  flat.set_faces(Matrix3Xi(Eigen::Vector3i(0, 1, 2)));
+  EXPECT_THROW(sample(flat, {}), InputError);
+}
+
+}  // namespace
+}  // namespace scanfill

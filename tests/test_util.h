@@ -1,0 +1,75 @@
+// Helpers shared by the tests: scratch folders, files with given bytes, running the CLI.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace scanfill::test {
+
+inline std::filesystem::path shared_data() {
+  return SCANFILL_SHARED_DATA;
+}
+inline std::filesystem::path source_dir() {
+  return SCANFILL_SOURCE_DIR;
+}
+
+// Skips the current test with a clear message when ../shared/data is absent.
+#define SCANFILL_REQUIRE_SHARED_DATA()                                               \
+  do {                                                                               \
+    if (!std::filesystem::exists(::scanfill::test::shared_data()))                   \
+      GTEST_SKIP() << "shared data not found at " << ::scanfill::test::shared_data() \
+                   << " (clone the project beside shared/ to run this test)";        \
+  } while (0)
+
+// A fresh folder per test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() / ("scanfill_" + std::string(info->test_suite_name()) + "_" +
+                                                      info->name() + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline void write_bytes(const std::filesystem::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+inline std::string read_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+// Runs the scanfill binary with `args` (a shell-quoted string), capturing its output.
+inline CommandResult run_scanfill(const std::string& args) {
+  const std::string cmd = std::string("'") + SCANFILL_BINARY + "' " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  while (size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+}  // namespace scanfill::test
