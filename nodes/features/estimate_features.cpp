@@ -159,11 +159,17 @@ void conjugate_gradient(const ComplexCsr& A, const std::vector<Complex>& b, std:
   result.converged = result.residual < tol;
 }
 
-// Angle of j's tangent frame seen in i's, after the minimal rotation taking n_j to n_i.
-double transport_angle(const Eigen::Vector3d& ni, const Eigen::Vector3d& ui, const Eigen::Vector3d& vi,
-                       const Eigen::Vector3d& nj, const Eigen::Vector3d& uj) {
-  const Eigen::Vector3d t = Eigen::Quaterniond::FromTwoVectors(nj, ni) * uj;
-  return std::atan2(t.dot(vi), t.dot(ui));
+// exp(4 i rho_ij): j's frame vector u_j carried to i's tangent plane (by projection, which agrees with the minimal
+// rotation to second order in the angle between the normals), as a unit complex number in i's frame, to the 4th power.
+Complex connection4(const Eigen::Vector3d& ni, const Eigen::Vector3d& ui, const Eigen::Vector3d& vi,
+                    const Eigen::Vector3d& uj) {
+  const Eigen::Vector3d t = uj - uj.dot(ni) * ni;
+  Complex c(t.dot(ui), t.dot(vi));
+  const double len = std::abs(c);
+  if (!(len > 1e-12)) return Complex(1.0, 0.0);
+  c /= len;
+  c *= c;
+  return c * c;
 }
 
 }  // namespace
@@ -230,6 +236,17 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
   }
   report(progress, 0.45);
 
+  // One tangent frame per point, shared by the curvature fit and the cross field.
+  Eigen::Matrix3Xd U(3, n), V(3, n);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      Eigen::Vector3d u, v;
+      tangent_frame(N.col(i), u, v);
+      U.col(i) = u;
+      V.col(i) = v;
+    }
+  });
+
   // Shape operator fit: dn = S dp in the tangent plane.
   Eigen::Matrix2Xd K(2, n);
   Eigen::Matrix3Xd D(3, n);
@@ -237,9 +254,7 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
   std::vector<Complex> raw(static_cast<size_t>(n));  // exp(4 i theta) of the raw k1 direction in the tangent frame
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
     for (Index i = r.begin(); i != r.end(); ++i) {
-      const Eigen::Vector3d ni = N.col(i);
-      Eigen::Vector3d u, v;
-      tangent_frame(ni, u, v);
+      const Eigen::Vector3d ni = N.col(i), u = U.col(i), v = V.col(i);
       Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
       Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
       const std::int32_t* nb = &knn[size_t(i * k)];
@@ -318,8 +333,7 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
     tbb::parallel_for(tbb::blocked_range<Index>(0, m, 256), [&](const tbb::blocked_range<Index>& rg) {
       for (Index row = rg.begin(); row != rg.end(); ++row) {
         const std::int32_t i = unknowns[size_t(row)];
-        Eigen::Vector3d ui, vi;
-        tangent_frame(N.col(i), ui, vi);
+        const Eigen::Vector3d ni = N.col(i), ui = U.col(i), vi = V.col(i);
         double diag = 0;
         Complex rhs = 0;
         std::int64_t e = offset[size_t(row)];
@@ -337,15 +351,11 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
         };
         for (int a = 1; a < k; ++a) {
           const std::int32_t j = knn[size_t(i * k + a)];
-          Eigen::Vector3d uj, vj;
-          tangent_frame(N.col(j), uj, vj);
-          add(j, std::polar(1.0, 4 * transport_angle(N.col(i), ui, vi, N.col(j), uj)));
+          add(j, connection4(ni, ui, vi, U.col(j)));
         }
         for (std::int64_t s = in_offset[size_t(row)]; s < in_offset[size_t(row) + 1]; ++s) {
-          const std::int32_t j = in_source[size_t(s)];
-          Eigen::Vector3d uj, vj;
-          tangent_frame(N.col(j), uj, vj);
-          add(j, std::polar(1.0, 4 * transport_angle(N.col(i), ui, vi, N.col(j), uj)));
+          const std::int32_t j = in_source[size_t(s)];  // edge (j, i): its term |z_j - c_ji z_i|^2 seen from row i
+          add(j, std::conj(connection4(N.col(j), U.col(j), V.col(j), ui)));
         }
         const double lambda = unreliable[size_t(i)] ? options.regularization : options.reliable_weight;
         A.diagonal[size_t(row)] = diag + lambda;
@@ -361,10 +371,8 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
       for (Index row = rg.begin(); row != rg.end(); ++row) {
         const std::int32_t i = unknowns[size_t(row)];
         if (!unreliable[size_t(i)] || std::abs(x[size_t(row)]) < 1e-12) continue;
-        Eigen::Vector3d u, v;
-        tangent_frame(N.col(i), u, v);
         const double theta = std::arg(x[size_t(row)]) / 4;
-        D.col(i) = std::cos(theta) * u + std::sin(theta) * v;
+        D.col(i) = std::cos(theta) * U.col(i) + std::sin(theta) * V.col(i);
       }
     });
   }

@@ -40,7 +40,7 @@ struct FeaturesOptions {
   double reliable_weight = 10.0;             // soft-constraint weight of reliable directions; > 0
   double regularization = 1e-3;              // pull of every unknown to its raw direction; > 0
   int max_iterations = 300;                  // conjugate-gradient iterations; >= 1
-  double tolerance = 1e-6;                   // relative residual to stop at; (0, 1)
+  double tolerance = 1e-3;                   // relative residual to stop at (angles need no more); (0, 1)
 };
 
 struct FeaturesResult {

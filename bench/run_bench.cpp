@@ -1,0 +1,24 @@
+// Whole runs: every config in bench/configs through run_pipeline, on 1 and 2 threads.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "engine/config.h"
+#include "engine/console.h"
+#include "engine/pipeline.h"
+
+namespace scanfill {
+namespace {
+
+void BM_Run(benchmark::State& state, const std::string& config_name) {
+  setup_logging(false, true);
+  RunConfig config = load_config(std::filesystem::path(SCANFILL_SOURCE_DIR) / "bench" / "configs" / config_name);
+  config.output_dir = std::filesystem::temp_directory_path() / ("scanfill_bench_" + config_name);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  for (auto _ : state) run_pipeline(config);
+  std::filesystem::remove_all(config.output_dir);
+  state.counters["peak_rss_mb"] = peak_rss_mb();
+}
+BENCHMARK_CAPTURE(BM_Run, vase, std::string("vase.yaml"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace scanfill
