@@ -167,13 +167,13 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
   const double exponent = options.weight_exponent;
 
-  // Weights are fixed-point integers (2^-40 units): sums and the atomic subtractions of the parallel rounds are then
-  // exact and order-independent, so the result is the same on any number of threads.
-  constexpr double kScale = double(std::int64_t(1) << 40);
+  // Weights are fixed-point integers (2^-30 units per edge, summed in 64 bits): sums and the atomic subtractions of the
+  // parallel rounds are then exact and order-independent, so the result is the same on any number of threads.
+  constexpr double kScale = double(std::int32_t(1) << 30);
   const int int_exponent = int(exponent);
   const bool integral = double(int_exponent) == exponent;
-  auto contribution = [&](Index i, Index j) -> std::int64_t {
-    const double x = std::max(0.0, 1.0 - (cand.positions.col(i) - cand.positions.col(j)).norm() / d_max);
+  auto contribution = [&](double d2) -> std::int32_t {
+    const double x = std::max(0.0, 1.0 - std::sqrt(d2) / d_max);
     double w = 1.0;
     if (integral) {
       double base = x;
@@ -182,114 +182,123 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     } else {
       w = std::pow(x, exponent);
     }
-    return std::llround(w * kScale);
+    return std::int32_t(w * kScale + 0.5);
   };
 
-  // Neighbour lists within d_max (CSR), built per fixed block and concatenated: deterministic.
+  // Neighbour lists within d_max with each edge's contribution (CSR), built per fixed block and concatenated. The
+  // kd-tree visits neighbours in the same order on any thread count, and nanoflann's squared distance is the same
+  // bits for (i, j) and (j, i), so the lists and weights are deterministic and symmetric.
   KdTree mesh_tree;
   if (mesh) mesh_tree.build(cand.positions);
   const KdTree& tree = mesh ? mesh_tree : input_tree;  // a cloud's candidates are its points: reuse its tree
   const Index n_blocks = (m + kBlock - 1) / kBlock;
-  std::vector<std::vector<std::int32_t>> block_adj(static_cast<size_t>(n_blocks));
+  struct Edge {
+    std::int32_t j;
+    std::int32_t w;
+  };
+  std::vector<std::vector<Edge>> block_adj(static_cast<size_t>(n_blocks));
   std::vector<std::int64_t> degree(size_t(m) + 1, 0);
   std::vector<std::int64_t> weight(static_cast<size_t>(m), 0);
+  std::atomic<Index> blocks_done{0};
   tbb::parallel_for(tbb::blocked_range<Index>(0, n_blocks, 1), [&](const tbb::blocked_range<Index>& br) {
     std::vector<Neighbor> hits;
     for (Index b = br.begin(); b != br.end(); ++b) {
+      report(progress, 0.1 + 0.2 * double(blocks_done++) / double(n_blocks));
       auto& adj = block_adj[size_t(b)];
       for (Index i = b * kBlock; i < std::min(m, (b + 1) * kBlock); ++i) {
         tree.radius(cand.positions.col(i), d_max, hits);
-        std::sort(hits.begin(), hits.end(), [](const Neighbor& a, const Neighbor& c) { return a.index < c.index; });
         std::int64_t w = 0;
         for (const Neighbor& h : hits) {
           if (h.index == i) continue;
           if (use_normals && cand.normals.col(i).dot(cand.normals.col(h.index)) < cos_limit) continue;
-          adj.push_back(h.index);
+          const std::int32_t c = contribution(h.distance2);
+          adj.push_back({h.index, c});
           ++degree[size_t(i) + 1];
-          w += contribution(i, h.index);
+          w += c;
         }
         weight[size_t(i)] = w;
       }
     }
   });
   std::partial_sum(degree.begin(), degree.end(), degree.begin());
-  std::vector<std::int32_t> adjacency(size_t(degree.back()));
+  std::vector<Edge> adjacency(size_t(degree.back()));
   tbb::parallel_for(Index(0), n_blocks, [&](Index b) {
     std::copy(block_adj[size_t(b)].begin(), block_adj[size_t(b)].end(),
               adjacency.begin() + degree[size_t(std::min(m, b * kBlock))]);
-    std::vector<std::int32_t>().swap(block_adj[size_t(b)]);
+    std::vector<Edge>().swap(block_adj[size_t(b)]);
   });
   report(progress, 0.3);
 
-  // Parallel elimination rounds.
-  std::vector<std::uint8_t> alive(static_cast<size_t>(m), 1), remove(static_cast<size_t>(m), 0);
+  // Parallel elimination rounds over the list of live candidates (compacted after each round).
+  std::vector<std::uint8_t> alive(static_cast<size_t>(m), 1);
   // A live heavier neighbour found in an earlier round: weights only fall, so it usually still blocks, in O(1).
   std::vector<std::int32_t> blocker(static_cast<size_t>(m), -1);
-  Index alive_count = m;
-  const Index excess0 = m - n_target;
+  std::vector<std::int32_t> live(static_cast<size_t>(m));
+  std::iota(live.begin(), live.end(), 0);
+  std::vector<std::uint8_t> is_max;
   std::vector<std::int64_t> scratch;
   std::vector<Index> maxima;
+  const Index excess0 = m - n_target;
   auto heavier = [&](Index a, Index b) {  // strict order on (weight, index)
     return weight[size_t(a)] > weight[size_t(b)] || (weight[size_t(a)] == weight[size_t(b)] && a < b);
   };
-  while (alive_count > n_target) {
-    const Index excess = alive_count - n_target;
+  while (Index(live.size()) > n_target) {
+    const Index excess = Index(live.size()) - n_target;
+    const size_t L = live.size();
     // Threshold: the excess-th largest live weight.
-    scratch.clear();
-    for (Index i = 0; i < m; ++i)
-      if (alive[size_t(i)]) scratch.push_back(weight[size_t(i)]);
+    scratch.resize(L);
+    for (size_t k = 0; k < L; ++k) scratch[k] = weight[size_t(live[k])];
     std::nth_element(scratch.begin(), scratch.begin() + (excess - 1), scratch.end(), std::greater<std::int64_t>());
     const std::int64_t tau = scratch[size_t(excess - 1)];
-    tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
-      for (Index i = r.begin(); i != r.end(); ++i) {
-        remove[size_t(i)] = 0;
-        if (!alive[size_t(i)] || weight[size_t(i)] < tau) continue;
+    is_max.assign(L, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, L, kBlock), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const Index i = live[k];
+        if (weight[size_t(i)] < tau) continue;
         if (weight[size_t(i)] == 0) {
-          remove[size_t(i)] = 1;  // isolated candidates (tau == 0): chosen by index below
+          is_max[k] = 1;  // isolated candidates (tau == 0): chosen by index below
           continue;
         }
         if (const auto b = blocker[size_t(i)]; b >= 0 && alive[size_t(b)] && heavier(b, i)) continue;
-        bool is_max = true;
-        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1] && is_max; ++e) {
-          const Index j = adjacency[size_t(e)];
+        bool local_max = true;
+        for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1] && local_max; ++e) {
+          const Index j = adjacency[size_t(e)].j;
           if (alive[size_t(j)] && heavier(j, i)) {
-            is_max = false;
+            local_max = false;
             blocker[size_t(i)] = std::int32_t(j);
           }
         }
-        remove[size_t(i)] = is_max;
+        is_max[k] = local_max;
       }
     });
     maxima.clear();
-    for (Index i = 0; i < m; ++i)
-      if (remove[size_t(i)]) maxima.push_back(i);
+    for (size_t k = 0; k < L; ++k)
+      if (is_max[k]) maxima.push_back(live[k]);
     if (Index(maxima.size()) > excess) {
       std::sort(maxima.begin(), maxima.end(), heavier);
       maxima.resize(static_cast<size_t>(excess));
     }
     if (maxima.empty()) throw InvariantError("sample elimination made no progress");
     for (Index i : maxima) alive[size_t(i)] = 0;
-    alive_count -= Index(maxima.size());
     // Push: each removed candidate subtracts its contribution from its live neighbours (integer atomics: exact).
     tbb::parallel_for(tbb::blocked_range<size_t>(0, maxima.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k != r.end(); ++k) {
         const Index i = maxima[k];
         for (std::int64_t e = degree[size_t(i)]; e < degree[size_t(i) + 1]; ++e) {
-          const Index j = adjacency[size_t(e)];
-          if (alive[size_t(j)])
-            std::atomic_ref<std::int64_t>(weight[size_t(j)]).fetch_sub(contribution(i, j), std::memory_order_relaxed);
+          const Edge& edge = adjacency[size_t(e)];
+          if (alive[size_t(edge.j)])
+            std::atomic_ref<std::int64_t>(weight[size_t(edge.j)]).fetch_sub(edge.w, std::memory_order_relaxed);
         }
       }
     });
+    live.erase(std::remove_if(live.begin(), live.end(), [&](std::int32_t i) { return !alive[size_t(i)]; }), live.end());
     ++result.rounds;
-    report(progress, 0.3 + 0.6 * double(excess0 - (alive_count - n_target)) / double(std::max<Index>(excess0, 1)));
+    report(progress,
+           0.3 + 0.6 * double(excess0 - (Index(live.size()) - n_target)) / double(std::max<Index>(excess0, 1)));
   }
 
   // Survivors, in Morton order for cache-friendly queries downstream.
-  std::vector<Index> kept;
-  kept.reserve(static_cast<size_t>(n_target));
-  for (Index i = 0; i < m; ++i)
-    if (alive[size_t(i)]) kept.push_back(i);
+  const std::vector<Index> kept(live.begin(), live.end());  // ascending candidate order
   const Index n = Index(kept.size());
   Eigen::Matrix3Xd pos(3, n);
   for (Index k = 0; k < n; ++k) pos.col(k) = cand.positions.col(kept[size_t(k)]);
