@@ -301,9 +301,8 @@ RunConfig load_config(const std::filesystem::path& path) {
       }
     }
   }
-  if (problems.empty()) {  // values that parsed: now their ranges and the inputs
-    for (const auto& [key, what] : validate(config)) problems.add(problems.mark_of(key), key, what);
-  }
+  // Ranges and inputs of every value that parsed (one that did not keeps its valid default): all problems at once.
+  for (const auto& [key, what] : validate(config)) problems.add(problems.mark_of(key), key, what);
   if (!problems.empty()) throw ConfigError(problems.message());
   return config;
 }

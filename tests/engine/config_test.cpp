@@ -55,8 +55,10 @@ TEST(Config, EveryProblemIsReportedAtOnceWithoutClamping) {
   const std::string e = config_error(dir, std::string(kValidHead) +
                                               "sample:\n  count: 0\n  oversampling: 500\nfeatures:\n  k: 3\n"
                                               "  umbilic_ratio: abc\n");
-  // Parse errors first (the value that is not a number), then, once values parse, range errors.
+  // A value that does not parse and values out of range, all in one report.
   EXPECT_NE(e.find("features.umbilic_ratio: expected a number, got 'abc'"), std::string::npos) << e;
+  EXPECT_NE(e.find("sample.count: expected an integer >= 1, got 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("features.k: expected an integer in [6, 128], got 3"), std::string::npos) << e;
   const std::string r =
       config_error(dir, std::string(kValidHead) + "sample:\n  count: 0\n  oversampling: 500\nfeatures:\n  k: 3\n");
   EXPECT_NE(r.find("c.yaml:6:10: sample.count: expected an integer >= 1, got 0"), std::string::npos) << r;

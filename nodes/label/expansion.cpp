@@ -1,0 +1,170 @@
+#include "nodes/label/expansion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "nodes/core/errors.h"
+#include "nodes/label/binary_energy.h"
+
+namespace scanfill {
+namespace {
+
+constexpr double kInfeasible = std::numeric_limits<double>::infinity();
+
+double unary(const LabelingProblem& p, Index i, int label) {
+  for (std::int64_t e = p.unary_offset[size_t(i)]; e < p.unary_offset[size_t(i) + 1]; ++e)
+    if (p.unary_label[size_t(e)] == label) return p.unary_cost[size_t(e)];
+  return kInfeasible;
+}
+
+}  // namespace
+
+void LabelingProblem::add_site(const std::vector<std::pair<int, double>>& label_costs) {
+  for (const auto& [label, cost] : label_costs) {
+    unary_label.push_back(label);
+    unary_cost.push_back(cost);
+  }
+  unary_offset.push_back(std::int64_t(unary_label.size()));
+  ++sites;
+}
+
+double labeling_energy(const LabelingProblem& p, const std::vector<int>& f) {
+  if (Index(f.size()) != p.sites) throw InvariantError("labelling has the wrong number of sites");
+  double e = 0;
+  std::vector<std::uint8_t> used(size_t(p.labels), 0);
+  for (Index i = 0; i < p.sites; ++i) {
+    e += unary(p, i, f[size_t(i)]);
+    used[size_t(f[size_t(i)])] = 1;
+  }
+  for (size_t k = 0; k < p.edges.size(); ++k) {
+    const auto [i, j] = p.edges[k];
+    if (f[size_t(i)] != f[size_t(j)]) e += p.pairwise(Index(k), f[size_t(i)], f[size_t(j)]);
+  }
+  if (!p.label_cost.empty())
+    for (int l = 0; l < p.labels; ++l)
+      if (used[size_t(l)]) e += p.label_cost[size_t(l)];
+  return e;
+}
+
+ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, const ExpansionOptions& options) {
+  if (Index(p.unary_offset.size()) != p.sites + 1)
+    throw InvariantError("labelling problem: unary offsets do not match");
+  ExpansionResult result;
+  result.energy_before = labeling_energy(p, f);
+  if (!std::isfinite(result.energy_before))
+    throw InvariantError("alpha expansion: the initial labelling is infeasible");
+  // Incidence lists: the edges of each site.
+  std::vector<std::int64_t> inc_offset(size_t(p.sites) + 1, 0);
+  for (const auto& [i, j] : p.edges) {
+    ++inc_offset[size_t(i) + 1];
+    ++inc_offset[size_t(j) + 1];
+  }
+  for (Index i = 0; i < p.sites; ++i) inc_offset[size_t(i) + 1] += inc_offset[size_t(i)];
+  std::vector<std::int32_t> incident(size_t(inc_offset.back()));
+  {
+    std::vector<std::int64_t> fill(inc_offset.begin(), inc_offset.end() - 1);
+    for (size_t k = 0; k < p.edges.size(); ++k) {
+      incident[size_t(fill[size_t(p.edges[k].first)]++)] = std::int32_t(k);
+      incident[size_t(fill[size_t(p.edges[k].second)]++)] = std::int32_t(k);
+    }
+  }
+  // Sites where each label is feasible.
+  std::vector<std::vector<std::int32_t>> feasible(size_t(p.labels));
+  for (Index i = 0; i < p.sites; ++i)
+    for (std::int64_t e = p.unary_offset[size_t(i)]; e < p.unary_offset[size_t(i) + 1]; ++e)
+      feasible[size_t(p.unary_label[size_t(e)])].push_back(std::int32_t(i));
+
+  BinaryEnergy move;
+  std::vector<std::int32_t> var(size_t(p.sites), -1);  // site -> move variable, -1 if fixed
+  std::vector<Index> count(size_t(p.labels), 0);       // sites per label in f
+  double energy = result.energy_before;
+  const bool costs = !p.label_cost.empty();
+
+  for (result.cycles = 0; result.cycles < options.max_cycles;) {
+    ++result.cycles;
+    bool changed = false;
+    for (int a = 0; a < p.labels; ++a) {
+      if (feasible[size_t(a)].empty()) continue;
+      move.reset();
+      std::vector<std::int32_t> vars;
+      for (const auto i : feasible[size_t(a)])
+        if (f[size_t(i)] != a) {
+          var[size_t(i)] = std::int32_t(move.add_variable());
+          vars.push_back(i);
+        }
+      if (vars.empty()) continue;
+      std::fill(count.begin(), count.end(), 0);
+      for (Index i = 0; i < p.sites; ++i) ++count[size_t(f[size_t(i)])];
+      // Unary terms of the variables.
+      for (const auto i : vars) move.add_unary(var[size_t(i)], unary(p, i, f[size_t(i)]), unary(p, i, a));
+      // Pairwise terms touching a variable (each edge once: from its lower-numbered variable end, or its only one).
+      for (const auto i : vars) {
+        for (std::int64_t k = inc_offset[size_t(i)]; k < inc_offset[size_t(i) + 1]; ++k) {
+          const Index e = incident[size_t(k)];
+          auto [s, t] = p.edges[size_t(e)];
+          const bool s_var = var[size_t(s)] >= 0, t_var = var[size_t(t)] >= 0;
+          const std::int32_t other = s == i ? t : s;
+          if (s_var && t_var && other < i) continue;  // added from the other end
+          auto V = [&](int ls, int lt) { return ls == lt ? 0.0 : p.pairwise(e, ls, lt); };
+          const int fs = f[size_t(s)], ft = f[size_t(t)];
+          if (s_var && t_var) {
+            move.add_pairwise(var[size_t(s)], var[size_t(t)], V(fs, ft), V(fs, a), V(a, ft), 0.0);
+          } else if (s_var) {
+            move.add_unary(var[size_t(s)], V(fs, ft), V(a, ft));
+          } else {
+            move.add_unary(var[size_t(t)], V(fs, ft), V(fs, a));
+          }
+        }
+      }
+      // Label costs. Labels whose sites are not all variables stay used whatever the move does: a constant.
+      if (costs) {
+        std::vector<std::int32_t> switchable(size_t(p.labels), 0);
+        for (const auto i : vars) ++switchable[size_t(f[size_t(i)])];
+        for (int l = 0; l < p.labels; ++l) {
+          if (l == a || count[size_t(l)] == 0) continue;
+          const double h = p.label_cost[size_t(l)];
+          if (switchable[size_t(l)] < count[size_t(l)] || h == 0) {
+            move.add_constant(h);
+            continue;
+          }
+          const Index y = move.add_variable();  // y = 1: every site of l switches and h_l is saved
+          move.add_unary(y, h, 0.0);
+          for (const auto i : vars)
+            if (f[size_t(i)] == l) move.add_pairwise(y, var[size_t(i)], 0.0, 0.0, h, 0.0);
+        }
+        const double ha = p.label_cost[size_t(a)];
+        if (count[size_t(a)] > 0) {
+          move.add_constant(ha);
+        } else if (ha > 0) {
+          const Index z = move.add_variable();  // z = 1: pay h_a once; z = 0: pay h_a for each switching site
+          move.add_unary(z, 0.0, ha);
+          for (const auto i : vars) move.add_pairwise(z, var[size_t(i)], 0.0, ha, 0.0, 0.0);
+        }
+      }
+      move.minimize();
+      result.truncated_terms += move.truncated();
+      std::vector<int> g = f;
+      for (const auto i : vars)
+        if (move.value(var[size_t(i)])) g[size_t(i)] = a;
+      for (const auto i : vars) var[size_t(i)] = -1;
+      const double e_new = labeling_energy(p, g);
+      if (e_new < energy - 1e-12 * std::max(1.0, std::abs(energy))) {
+        f.swap(g);
+        energy = e_new;
+        changed = true;
+        ++result.moves_accepted;
+        result.energy_trace.push_back(energy);
+      }
+    }
+    if (!changed) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.labeling = std::move(f);
+  result.energy_after = energy;
+  return result;
+}
+
+}  // namespace scanfill
