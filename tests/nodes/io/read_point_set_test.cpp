@@ -13,6 +13,13 @@ namespace {
 using test::TempDir;
 using test::write_bytes;
 
+// A test-name-safe identifier from a path or file name.
+std::string identifier(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
 // Expected counts of every file in ../shared/data: vertices from the headers, triangles after splitting n-gons
 // (sum of n - 2 over the OBJ faces), and for the organised PCD the finite points PCL's removeNaNFromPointCloud keeps.
 struct Expected {
@@ -73,12 +80,8 @@ TEST_P(SharedData, LoadsWithTheRightCounts) {
   EXPECT_LT(r.points.source_index().maxCoeff(), e.points + e.dropped);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllFiles, SharedData, ::testing::ValuesIn(kSharedFiles), [](const auto& info) {
-  std::string name = info.param.path;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-});
+INSTANTIATE_TEST_SUITE_P(AllFiles, SharedData, ::testing::ValuesIn(kSharedFiles),
+                         [](const auto& info) { return identifier(info.param.path); });
 
 TEST(SharedDataDetail, StanfordScanKeepsCoordinatesOfFirstVertex) {
   SCANFILL_REQUIRE_SHARED_DATA();
@@ -244,12 +247,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "DATA ascii\n0 0 0\n1 1 1\n",
                 "malformed or truncated PCD"},
         BadFile{"cloud.las", "LASF", "unknown format '.las'"}),
-    [](const auto& info) {
-      std::string name = info.param.name;
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      return name;
-    });
+    [](const auto& info) { return identifier(info.param.name); });
 
 TEST(Io, MissingFileIsReported) {
   try {
