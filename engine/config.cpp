@@ -232,7 +232,8 @@ RunConfig load_config(const std::filesystem::path& path) {
     problems.add(root.Mark(), "(top level)", "expected a map of settings, got " + describe(root));
     throw ConfigError(problems.message());
   }
-  const std::vector<std::string> top{"mode", "inputs", "output", "threads", "load", "sample", "features"};
+  std::vector<std::string> top{"mode", "inputs", "output", "threads"};
+  for (const Section& section : option_sections(config)) top.push_back(section.key);
   check_map(root, "", top, problems);
 
   if (const YAML::Node n = root["mode"]) {
@@ -304,6 +305,7 @@ RunConfig load_config(const std::filesystem::path& path) {
   // Ranges and inputs of every value that parsed (one that did not keeps its valid default): all problems at once.
   for (const auto& [key, what] : validate(config)) problems.add(problems.mark_of(key), key, what);
   if (!problems.empty()) throw ConfigError(problems.message());
+  config.support.allow_scale = config.vote.allow_scale;
   return config;
 }
 

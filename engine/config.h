@@ -12,7 +12,11 @@
 
 #include "nodes/features/estimate_features.h"
 #include "nodes/io/read_point_set.h"
+#include "nodes/label/label.h"
+#include "nodes/modes/modes.h"
 #include "nodes/sample/sample.h"
+#include "nodes/support/support.h"
+#include "nodes/vote/vote.h"
 
 namespace scanfill {
 
@@ -32,6 +36,10 @@ struct RunConfig {
   LoadOptions load;
   SampleOptions sample;
   FeaturesOptions features;
+  VoteOptions vote;
+  ModesOptions modes;
+  SupportOptions support;  // support.allow_scale follows vote.allow_scale
+  LabelOptions label;
   std::filesystem::path config_path;  // the file it was read from
 };
 

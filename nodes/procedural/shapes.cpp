@@ -1,7 +1,9 @@
 #include "nodes/procedural/shapes.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
+#include <random>
 
 #include "nodes/core/errors.h"
 
@@ -109,6 +111,51 @@ PointSet make_cylinder(double radius, double height, int segments) {
   return m.build();
 }
 
+PointSet make_box(const Eigen::Vector3d& size, int per_unit) {
+  MeshBuilder m;
+  const Eigen::Vector3d h = size / 2;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {-1, 1}) {
+      // The face's two in-plane axes, ordered so that (du x dv) points along side * axis.
+      int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      if (side < 0) std::swap(a, b);
+      const int na = std::max(1, int(std::ceil(size(a) * per_unit))),
+                nb = std::max(1, int(std::ceil(size(b) * per_unit)));
+      m.grid(
+          [&](double s, double t) {
+            Eigen::Vector3d p;
+            p(axis) = side * h(axis);
+            p(a) = (s - 0.5) * size(a);
+            p(b) = (t - 0.5) * size(b);
+            return p;
+          },
+          na, nb, false);
+    }
+  return m.build();
+}
+
+PointSet make_blob(int bumps, std::uint64_t seed, int segments) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector2d>> b;  // direction; height and width
+  for (int i = 0; i < bumps; ++i) {
+    const Eigen::Vector3d d = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    b.push_back({d, Eigen::Vector2d(0.1 + 0.25 * u(rng), 0.25 + 0.35 * u(rng))});
+  }
+  MeshBuilder m;
+  m.grid(
+      [&](double s, double t) {
+        const double phi = 2 * M_PI * s, th = M_PI * (1 - t);
+        const Eigen::Vector3d d(std::sin(th) * std::cos(phi), std::sin(th) * std::sin(phi), std::cos(th));
+        double r = 0.5;
+        for (const auto& [c, hw] : b) r += 0.5 * hw(0) * std::exp(-(d - c).squaredNorm() / (hw(1) * hw(1)));
+        return Eigen::Vector3d(r * d);
+      },
+      segments, segments / 2, true);
+  return m.build();
+}
+
 PointSet make_vase(int flutes, int beads, int segments) {
   return vase(flutes, beads, segments, true);
 }
@@ -117,7 +164,8 @@ PointSet make_vase_template(int segments) {
 }
 
 const std::vector<std::string>& shape_names() {
-  static const std::vector<std::string> names{"plane", "sphere", "cylinder", "vase", "vase_template"};
+  static const std::vector<std::string> names{"plane", "sphere", "cylinder", "blob",
+                                              "box",   "box_l",  "vase",     "vase_template"};
   return names;
 }
 
@@ -125,6 +173,19 @@ PointSet make_shape(const std::string& name) {
   if (name == "plane") return make_plane(1.0, 64);
   if (name == "sphere") return make_sphere(0.5, 128);
   if (name == "cylinder") return make_cylinder(0.3, 1.0, 128);
+  if (name == "blob") return make_blob();
+  if (name == "box") return make_box(Eigen::Vector3d(1.0, 0.4, 0.4));
+  if (name == "box_l") {  // two boxes in an L: the paper's simplest analogy (one source box, two target parts)
+    const PointSet a = make_box(Eigen::Vector3d(1.0, 0.4, 0.4));
+    Eigen::Matrix3Xd p(3, 2 * a.size());
+    const Eigen::Matrix3d up = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    p << a.positions(), (up * a.positions()).colwise() + Eigen::Vector3d(0.3, 0, 0.7);
+    Matrix3Xi f(3, 2 * a.faces().cols());
+    f << a.faces(), (a.faces().array() + std::int32_t(a.size())).matrix();
+    PointSet l(std::move(p));
+    l.set_faces(std::move(f));
+    return l;
+  }
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();
   std::string valid;

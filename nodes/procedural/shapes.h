@@ -3,6 +3,7 @@
 // without downloaded data.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,15 @@ PointSet make_vase(int flutes = 12, int beads = 16, int segments = 192);
 // The vase's structural template: its body of revolution without flutes or beads.
 PointSet make_vase_template(int segments = 192);
 
-// Shape by name ("plane", "sphere", "cylinder", "vase", "vase_template"), with default sizes; throws InputError for
-// an unknown name, listing the valid ones.
+// Closed axis-aligned box with the given side lengths, centred at the origin, outward winding; `segments` quads per
+// unit length along each side (at least 1 per side).
+PointSet make_box(const Eigen::Vector3d& size, int segments_per_unit = 32);
+// A sphere of radius 0.5 with `bumps` Gaussian bumps of random size in random directions (seeded): a shape without
+// symmetry, with curvature that varies everywhere, for tests whose transform must be unique.
+PointSet make_blob(int bumps = 8, std::uint64_t seed = 3, int segments = 128);
+
+// Shape by name ("plane", "sphere", "cylinder", "blob", "vase", "vase_template"), with default sizes; throws InputError
+// for an unknown name, listing the valid ones.
 PointSet make_shape(const std::string& name);
 const std::vector<std::string>& shape_names();
 

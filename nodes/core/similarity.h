@@ -1,0 +1,38 @@
+// A similarity transform x -> s R x + t (R a rotation, s > 0): the paper's simple transforms Q.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+namespace scanfill {
+
+struct Similarity {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+
+  Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
+  Eigen::Vector3d apply_normal(const Eigen::Vector3d& n) const { return rotation * n; }
+};
+
+// The rotation nearest to M in the Frobenius norm (SVD projection, det +1).
+inline Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) D(2, 2) = -1;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+// Angle of a rotation matrix, in radians, in [0, pi].
+inline double rotation_angle(const Eigen::Matrix3d& R) {
+  return std::acos(std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0));
+}
+
+// Least-squares similarity (or rigid motion, when allow_scale is false) taking the columns of `from` to those of
+// `to` (Umeyama 1991). Returns identity for fewer than 3 points.
+Similarity fit_similarity(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to, bool allow_scale);
+
+}  // namespace scanfill

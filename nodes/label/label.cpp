@@ -1,0 +1,167 @@
+#include "nodes/label/label.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+const std::vector<Eigen::Matrix3d>& axis_rotations() {
+  static const std::vector<Eigen::Matrix3d> rotations = [] {
+    std::vector<Eigen::Matrix3d> r;
+    const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    for (const auto& p : perms)
+      for (int signs = 0; signs < 8; ++signs) {
+        Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+        for (int i = 0; i < 3; ++i) m(i, p[i]) = (signs >> i & 1) ? -1 : 1;
+        if (m.determinant() > 0) r.push_back(m);
+      }
+    return r;
+  }();
+  return rotations;
+}
+
+}  // namespace
+
+double residual_axis_angle(const Eigen::Matrix3d& R) {
+  double best = M_PI;
+  for (const auto& A : axis_rotations()) best = std::min(best, rotation_angle(A.transpose() * R));
+  return best;
+}
+
+LabelResult label_target(const PointSet& source, const PointSet& target,
+                         const std::vector<SupportedTransform>& transforms, double spacing, const LabelOptions& o) {
+  const Index n = target.size();
+  const int L = int(transforms.size());
+  LabelResult result;
+  result.self_label = L;
+  KdTree source_tree, target_tree;
+  source_tree.build(source.positions());
+  target_tree.build(target.positions());
+  const double sp2 = 2 * std::pow(o.sigma_p * spacing, 2), sn2 = o.sigma_n * o.sigma_n;
+
+  // Feasible labels per site: within `dilation` alpha of the label's support (a kd-tree per support).
+  std::vector<std::vector<std::pair<int, double>>> unaries(static_cast<size_t>(n));
+  std::vector<std::vector<std::uint8_t>> feasible(static_cast<size_t>(L));
+  tbb::parallel_for(0, L, [&](int l) {
+    auto& f = feasible[size_t(l)];
+    f.assign(size_t(n), 0);
+    Eigen::Matrix3Xd pts(3, Index(transforms[size_t(l)].support.size()));
+    for (size_t k = 0; k < transforms[size_t(l)].support.size(); ++k)
+      pts.col(Index(k)) = target.positions().col(transforms[size_t(l)].support[k]);
+    KdTree tree;
+    tree.build(pts);
+    for (Index t = 0; t < n; ++t) {
+      std::int32_t i;
+      double d2;
+      tree.knn(target.positions().col(t), 1, &i, &d2);
+      f[size_t(t)] = d2 <= std::pow(o.dilation * spacing, 2) + 1e-30;
+    }
+  });
+  // Unaries (eq. 5, log domain, capped).
+  tbb::parallel_for(Index(0), n, [&](Index t) {
+    auto& u = unaries[size_t(t)];
+    for (int l = 0; l < L; ++l) {
+      if (!feasible[size_t(l)][size_t(t)]) continue;
+      const Similarity& q = transforms[size_t(l)].transform;
+      const Eigen::Vector3d p = q.apply(target.positions().col(t));
+      std::int32_t s;
+      double d2;
+      source_tree.knn(p, 1, &s, &d2);
+      const double d_point = std::sqrt(d2);
+      double d = d_point;
+      if (o.point_to_plane) {
+        const double plane = std::abs(source.normals().col(s).dot(p - source.positions().col(s)));
+        d = std::hypot(plane, std::max(0.0, d_point - spacing));
+      }
+      const double c = q.apply_normal(target.normals().col(t)).dot(source.normals().col(s));
+      u.push_back({l, std::min(o.unary_cap, d * d / sp2 + (1 - c) / sn2)});
+    }
+    u.push_back({L, o.self_cost});
+  });
+
+  LabelingProblem problem;
+  problem.labels = L + 1;
+  for (Index t = 0; t < n; ++t) problem.add_site(unaries[size_t(t)]);
+  // MRF edges: mrf_k nearest neighbours with compatible normals, each pair once.
+  const int k = std::min<int>(o.mrf_k, int(n) - 1);
+  std::vector<std::int32_t> knn(static_cast<size_t>(n) * size_t(k + 1));
+  tbb::parallel_for(Index(0), n, [&](Index t) {
+    std::vector<double> d2(size_t(k + 1));
+    target_tree.knn(target.positions().col(t), k + 1, &knn[size_t(t) * size_t(k + 1)], d2.data());
+  });
+  auto is_neighbor = [&](Index a, Index b) {
+    for (int j = 1; j <= k; ++j)
+      if (knn[size_t(a) * size_t(k + 1) + size_t(j)] == b) return true;
+    return false;
+  };
+  for (Index t = 0; t < n; ++t)
+    for (int j = 1; j <= k; ++j) {
+      const Index u = knn[size_t(t) * size_t(k + 1) + size_t(j)];
+      if (u == t || (u < t && is_neighbor(u, t))) continue;  // listed from the other end
+      if (target.normals().col(t).dot(target.normals().col(u)) < 0.5) continue;
+      problem.edges.push_back({std::int32_t(t), std::int32_t(u)});
+    }
+  std::vector<Eigen::Vector3d> mid(problem.edges.size()), normal(problem.edges.size());
+  for (size_t e = 0; e < problem.edges.size(); ++e) {
+    const auto [a, b] = problem.edges[e];
+    mid[e] = 0.5 * (target.positions().col(a) + target.positions().col(b));
+    normal[e] = (target.normals().col(a) + target.normals().col(b)).normalized();
+  }
+  problem.pairwise = [&](Index e, int a, int b) {
+    if (a == b) return 0.0;
+    if (a == L || b == L) return o.pairwise_weight * (o.pairwise_cap + o.mu);
+    const Similarity &qa = transforms[size_t(a)].transform, &qb = transforms[size_t(b)].transform;
+    const double data = (qa.apply(mid[size_t(e)]) - qb.apply(mid[size_t(e)])).squaredNorm() / sp2 +
+                        (1 - qa.apply_normal(normal[size_t(e)]).dot(qb.apply_normal(normal[size_t(e)]))) / sn2;
+    return o.pairwise_weight * (std::min(o.pairwise_cap, data) + o.mu);
+  };
+  // Label costs (eq. 9 with the gimbal-safe residual rotation).
+  problem.label_cost.assign(size_t(L + 1), 0.0);
+  for (int l = 0; l < L; ++l) {
+    const Similarity& q = transforms[size_t(l)].transform;
+    problem.label_cost[size_t(l)] = o.label_cost_per_sample * double(n) *
+                                    (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
+                                     o.scale_prior * std::abs(std::log2(q.scale)));
+  }
+  result.label_costs.assign(problem.label_cost.begin(), problem.label_cost.end() - 1);
+
+  const ExpansionResult r = alpha_expansion(problem, std::vector<int>(size_t(n), L), {.max_cycles = o.max_cycles});
+  result.energy_before = r.energy_before;
+  result.energy_after = r.energy_after;
+  result.truncated_terms = r.truncated_terms;
+  result.cycles = r.cycles;
+  result.labels = r.labeling;
+
+  // Clean-up on the 5-alpha ring.
+  if (o.cleanup_ring > 0) {
+    std::vector<int> cleaned = result.labels;
+    tbb::parallel_for(Index(0), n, [&](Index t) {
+      std::vector<Neighbor> ring;
+      target_tree.radius(target.positions().col(t), o.cleanup_ring * spacing, ring);
+      std::map<int, Index> votes;
+      Index others = 0, total = 0;
+      for (const Neighbor& nb : ring) {
+        if (nb.index == t) continue;
+        ++total;
+        ++votes[result.labels[size_t(nb.index)]];
+        others += result.labels[size_t(nb.index)] != result.labels[size_t(t)];
+      }
+      if (total == 0 || double(others) <= o.cleanup_majority * double(total)) return;
+      const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) {
+        return a.second < b.second || (a.second == b.second && a.first > b.first);
+      });
+      cleaned[size_t(t)] = best->first;
+    });
+    for (Index t = 0; t < n; ++t) result.cleaned += cleaned[size_t(t)] != result.labels[size_t(t)];
+    result.labels.swap(cleaned);
+  }
+  return result;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,69 @@
+// label node: which transform explains each target sample (paper eq. 3), by alpha-expansion with label costs.
+//
+// Labels 0..L-1 are the supported transforms; label L is the self-reference (the target copies itself there).
+// Corrections to the paper (DESIGN section 4), each an option here:
+//  - eq. 5 in the log domain, capped: D_t(l) = min(unary_cap, d^2 / (2 (sigma_p alpha)^2) + (1 - cos theta) /
+//  sigma_n^2),
+//    d the point-to-plane distance of Q_l p_t to its nearest source sample (plus any excess of the point distance over
+//    alpha), theta the angle between R_l n_t and that sample's normal. exp(-d^2/2 sigma_p^2) itself would underflow.
+//  - eq. 7 as printed can go negative; here V(l, l') = w [l != l'] (min(pairwise_cap, |Q_l m - Q_l' m|^2 /
+//    (2 (sigma_p alpha)^2) + (1 - R_l n . R_l' n) / sigma_n^2) + mu), m and n the edge's midpoint and mean normal.
+//    With pairwise_cap <= mu it is a metric, as expansion needs. Self-reference against any label costs cap + mu.
+//  - eq. 9 needs Euler angles, ambiguous near gimbal lock: the label prior uses the angle of the residual rotation
+//    from the nearest of the 24 axis-aligned rotations: h_l = label_cost_per_sample N (1 + rotation_prior angle / 45
+//    deg
+//    + scale_prior |log2 s|), N the number of target samples.
+//  - the self-reference label has the constant unary self_cost.
+//  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees; the 5-alpha ring is
+//    used only by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
+//    ring to the ring's majority label.
+// Labels are sparse: label l is feasible only within `dilation` alpha of its support.
+#pragma once
+
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/label/expansion.h"
+#include "nodes/support/support.h"
+
+namespace scanfill {
+
+struct LabelOptions {
+  double sigma_p = 0.1;                 // position scale of eq. 5 and 7, in alpha; > 0
+  double sigma_n = 0.5;                 // normal scale of eq. 5 and 7 (on 1 - cos); > 0
+  bool point_to_plane = true;           // point-to-plane (true) or point-to-point distance in eq. 5
+  double unary_cap = 20.0;              // cap of the log-domain unary; > 0
+  double self_cost = 8.0;               // unary of the self-reference label; >= 0
+  double pairwise_weight = 1.0;         // w; >= 0
+  double mu = 1.0;                      // constant cost of a label change; >= 0
+  double pairwise_cap = 1.0;            // cap of V's data part (<= mu keeps V a metric); >= 0
+  double label_cost_per_sample = 0.05;  // base h_l of a transform label, per target sample (h scales with the
+                                        // sampling density, as the unary sums it competes with do); >= 0
+  double rotation_prior = 0.5;          // eq. 9 weight of the residual rotation; >= 0
+  double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
+  int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
+  double dilation = 2.0;                // a label is feasible within this many alpha of its support; >= 0
+  double cleanup_ring = 5.0;            // clean-up ring radius in alpha; >= 0 (0 = no clean-up)
+  double cleanup_majority = 0.9;        // fraction of the ring that must disagree; (0.5, 1]
+  int max_cycles = 10;                  // expansion sweeps; >= 1
+};
+
+struct LabelResult {
+  std::vector<int> labels;   // per target sample: 0..L-1 a transform, L the self-reference
+  int self_label = 0;        // L
+  double energy_before = 0;  // eq. 3 of the all-self labelling
+  double energy_after = 0;   // eq. 3 after expansion (before the clean-up)
+  Index cleaned = 0;         // samples moved by the clean-up
+  Index truncated_terms = 0;
+  int cycles = 0;
+  std::vector<double> label_costs;  // h_l per transform label
+};
+
+LabelResult label_target(const PointSet& source, const PointSet& target,
+                         const std::vector<SupportedTransform>& transforms, double spacing,
+                         const LabelOptions& options);
+
+// Angle (radians) between R and the nearest of the 24 rotations that map axes to axes.
+double residual_axis_angle(const Eigen::Matrix3d& R);
+
+}  // namespace scanfill

@@ -1,0 +1,132 @@
+#include "nodes/support/support.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+struct Context {
+  const PointSet& source;
+  const PointSet& target;
+  const KdTree& source_tree;
+  const std::vector<std::int32_t>& graph;  // target kNN, graph_k per sample (self excluded)
+  int k;
+  double max_distance;
+  double cos_limit;
+};
+
+// Nearest source sample to Q p_t, when t is explained by Q; -1 otherwise.
+std::int32_t explained(const Context& c, const Similarity& q, Index t) {
+  std::int32_t s;
+  double d2;
+  c.source_tree.knn(q.apply(c.target.positions().col(t)), 1, &s, &d2);
+  if (d2 > c.max_distance * c.max_distance) return -1;
+  if (q.apply_normal(c.target.normals().col(t)).dot(c.source.normals().col(s)) < c.cos_limit) return -1;
+  return s;
+}
+
+// Breadth-first growth from the seeds over the target graph; returns the explained samples, ascending.
+std::vector<std::int32_t> grow(const Context& c, const Similarity& q, const std::vector<std::int32_t>& seeds) {
+  std::vector<std::uint8_t> seen(static_cast<size_t>(c.target.size()), 0);
+  std::vector<std::int32_t> support;
+  std::deque<std::int32_t> queue;
+  for (const auto t : seeds)
+    if (!seen[size_t(t)]) {
+      seen[size_t(t)] = 1;
+      if (explained(c, q, t) >= 0) queue.push_back(t);
+    }
+  while (!queue.empty()) {
+    const std::int32_t t = queue.front();
+    queue.pop_front();
+    support.push_back(t);
+    for (int a = 0; a < c.k; ++a) {
+      const std::int32_t u = c.graph[size_t(t) * size_t(c.k) + size_t(a)];
+      if (seen[size_t(u)]) continue;
+      seen[size_t(u)] = 1;
+      if (explained(c, q, u) >= 0) queue.push_back(u);
+    }
+  }
+  std::sort(support.begin(), support.end());
+  return support;
+}
+
+}  // namespace
+
+SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
+                            double spacing, const SupportOptions& o) {
+  KdTree source_tree, target_tree;
+  source_tree.build(source.positions());
+  target_tree.build(target.positions());
+  const int k = std::min<int>(o.graph_k, int(target.size()) - 1);
+  std::vector<std::int32_t> graph(static_cast<size_t>(target.size()) * size_t(std::max(k, 0)));
+  tbb::parallel_for(Index(0), target.size(), [&](Index t) {
+    std::int32_t idx[65];
+    double d2[65];
+    target_tree.knn(target.positions().col(t), k + 1, idx, d2);
+    for (int a = 0; a < k; ++a) graph[size_t(t) * size_t(k) + size_t(a)] = idx[a + 1];
+  });
+  const Context c{
+      source, target, source_tree, graph, k, o.distance * spacing, std::cos(o.normal_angle_deg * M_PI / 180)};
+
+  std::vector<SupportedTransform> found(modes.size());
+  tbb::parallel_for(size_t(0), modes.size(), [&](size_t m) {
+    SupportedTransform st;
+    st.transform = modes[m].transform;
+    st.support = grow(c, st.transform, modes[m].voters);
+    for (int it = 0; it < o.icp_iterations && Index(st.support.size()) >= 3; ++it) {
+      Eigen::Matrix3Xd from(3, Index(st.support.size())), to(3, Index(st.support.size()));
+      Index n = 0;
+      for (const auto t : st.support) {
+        const std::int32_t s = explained(c, st.transform, t);
+        if (s < 0) continue;
+        from.col(n) = target.positions().col(t);
+        to.col(n) = source.positions().col(s);
+        ++n;
+      }
+      if (n < 3) break;
+      st.transform = fit_similarity(from.leftCols(n), to.leftCols(n), o.allow_scale);
+      st.support = grow(c, st.transform, st.support);
+    }
+    double sum = 0;
+    Index n = 0;
+    for (const auto t : st.support) {
+      std::int32_t s;
+      double d2;
+      source_tree.knn(st.transform.apply(target.positions().col(t)), 1, &s, &d2);
+      sum += d2;
+      ++n;
+    }
+    st.rms = n ? std::sqrt(sum / double(n)) : 0;
+    found[m] = std::move(st);
+  });
+
+  // Strongest first; drop the small and the duplicates.
+  std::stable_sort(found.begin(), found.end(),
+                   [](const auto& a, const auto& b) { return a.support.size() > b.support.size(); });
+  SupportResult result;
+  const double cos_dup = std::cos(o.duplicate_angle_deg * M_PI / 180);
+  for (auto& st : found) {
+    if (Index(st.support.size()) < o.min_support) continue;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const auto t : st.support) centre += target.positions().col(t);
+    centre /= double(st.support.size());
+    bool duplicate = false;
+    for (const auto& kept : result.transforms) {
+      const double cos_angle =
+          (std::min(3.0, (kept.transform.rotation.transpose() * st.transform.rotation).trace()) - 1) / 2;
+      if (cos_angle > cos_dup &&
+          (kept.transform.apply(centre) - st.transform.apply(centre)).norm() < o.duplicate_distance * spacing)
+        duplicate = true;
+    }
+    if (!duplicate) result.transforms.push_back(std::move(st));
+  }
+  return result;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,42 @@
+// support node: the target samples each candidate transform explains (paper eq. 2), refined (DESIGN section 4).
+//
+// A target sample t is explained by Q when Q p_t lies within `distance` alpha of a source sample s and their normals
+// agree within `normal_angle_deg` (R n_t . n_s). The support grows from the mode's voters over the target kNN graph,
+// never testing every mode against every sample. Each Q is then refined by similarity ICP on its support (the
+// label node's sigma_p = 0.1 alpha is far tighter than mean-shift accuracy) and the support re-grown. Transforms whose
+// support falls below `min_support` samples, or that end up within tolerance of a stronger one, are dropped.
+#pragma once
+
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+#include "nodes/modes/modes.h"
+
+namespace scanfill {
+
+struct SupportOptions {
+  double distance = 2.0;             // explained when within this many alpha of a source sample; > 0
+  double normal_angle_deg = 30.0;    // and normals agree within this; (0, 180]
+  int graph_k = 8;                   // target kNN graph for growing; [2, 64]
+  int icp_iterations = 5;            // similarity ICP steps per transform; >= 0
+  Index min_support = 30;            // transforms explaining fewer samples are dropped; >= 1
+  bool allow_scale = true;           // refine as similarity (true) or rigid motion
+  double duplicate_angle_deg = 2.0;  // transforms closer than this in rotation ...
+  double duplicate_distance = 1.0;   // ... and moving the support centre less than this many alpha are merged
+};
+
+struct SupportedTransform {
+  Similarity transform;
+  std::vector<std::int32_t> support;  // target samples explained, ascending
+  double rms = 0;                     // RMS distance of the support to the source after refinement
+};
+
+struct SupportResult {
+  std::vector<SupportedTransform> transforms;  // by decreasing support
+};
+
+SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
+                            double spacing, const SupportOptions& options);
+
+}  // namespace scanfill

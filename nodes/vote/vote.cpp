@@ -1,0 +1,144 @@
+#include "nodes/vote/vote.h"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+namespace {
+
+constexpr double kFlatSignature = 10.0;  // k2/k1 lies in [-1, 1]; flat points get a class of their own
+
+double signature(const PointSet& p, Index i, double spacing, double flat) {
+  const double k1 = p.curvatures()(0, i), k2 = p.curvatures()(1, i);
+  if (std::abs(k1) * spacing < flat) return kFlatSignature;
+  return k2 / k1;
+}
+
+Eigen::Matrix3d frame(const PointSet& p, Index i, int variant) {
+  const Eigen::Vector3d n = p.normals().col(i);
+  Eigen::Vector3d d1 = p.directions().col(i);
+  // variants 0-3: d1 turned by 0, 180, 90, 270 degrees about n (the 4-fold ambiguity of a cross field)
+  if (variant == 1) d1 = -d1;
+  if (variant == 2) d1 = n.cross(d1);
+  if (variant == 3) d1 = -n.cross(d1);
+  Eigen::Matrix3d F;
+  F.col(0) = d1;
+  F.col(1) = n.cross(d1);
+  F.col(2) = n;
+  return F;
+}
+
+}  // namespace
+
+Eigen::Matrix<double, 13, 1> embed(const Similarity& q, const VoteResult& f, const VoteOptions& o) {
+  Eigen::Matrix<double, 13, 1> x;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) x(3 * r + c) = o.rotation_weight * q.rotation(r, c);
+  x.segment<3>(9) = o.translation_weight * (q.translation - f.center) / f.diagonal;
+  x(12) = o.scale_weight * std::log(q.scale);
+  return x;
+}
+
+Similarity unembed(const Eigen::Matrix<double, 13, 1>& x, const VoteResult& f, const VoteOptions& o) {
+  Similarity q;
+  Eigen::Matrix3d M;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) M(r, c) = x(3 * r + c) / o.rotation_weight;
+  q.rotation = nearest_rotation(M);
+  q.translation = x.segment<3>(9) * f.diagonal / o.translation_weight + f.center;
+  q.scale = std::exp(x(12) / o.scale_weight);
+  return q;
+}
+
+VoteResult vote(const PointSet& source, const PointSet& target, double spacing, const VoteOptions& o) {
+  for (const PointSet* p : {&source, &target})
+    if (!p->has_normals() || !p->has_curvatures() || !p->has_directions())
+      throw InputError("voting needs normals, curvatures and directions on both shapes (run features first)");
+  if (source.size() == 0 || target.size() == 0) throw InputError("voting needs non-empty source and target");
+  VoteResult result;
+  Eigen::Matrix3Xd both(3, source.size() + target.size());
+  both << source.positions(), target.positions();
+  const BoundingBox box = bounding_box(both);
+  result.center = 0.5 * (box.min + box.max);
+  result.diagonal = std::max(box.diagonal(), 1e-12);
+
+  // Source points sorted by signature.
+  std::vector<std::pair<double, std::int32_t>> by_sig(static_cast<size_t>(source.size()));
+  for (Index i = 0; i < source.size(); ++i)
+    by_sig[size_t(i)] = {signature(source, i, spacing, o.flat_curvature), std::int32_t(i)};
+  std::sort(by_sig.begin(), by_sig.end());
+
+  // Voting target points: a seeded sample without replacement.
+  std::vector<std::int32_t> voters(static_cast<size_t>(target.size()));
+  std::iota(voters.begin(), voters.end(), 0);
+  std::mt19937_64 rng(o.seed);
+  const Index n_voters = std::min<Index>(o.target_samples, target.size());
+  for (Index k = 0; k < n_voters; ++k)
+    std::swap(voters[size_t(k)], voters[size_t(k + Index(rng() % std::uint64_t(target.size() - k)))]);
+  voters.resize(size_t(n_voters));
+  std::sort(voters.begin(), voters.end());
+
+  // Each voter's votes in its own slot range: deterministic order on any thread count.
+  const int per_pair_max = 4;
+  const size_t slot = size_t(o.matches_per_point) * per_pair_max;
+  VoteMatrix all(13, Index(voters.size() * slot));
+  std::vector<std::int32_t> owner(voters.size() * slot, -1);
+  const double log_min = std::log(o.min_scale), log_max = std::log(o.max_scale);
+  tbb::parallel_for(size_t(0), voters.size(), [&](size_t v) {
+    const Index t = voters[v];
+    const double sig = signature(target, t, spacing, o.flat_curvature);
+    const bool t_flat = sig == kFlatSignature;
+    // The matches_per_point nearest signatures: expand a window around the insertion point.
+    auto hi = std::lower_bound(by_sig.begin(), by_sig.end(), std::make_pair(sig, std::int32_t(-1)));
+    auto lo = hi;
+    size_t out = v * slot;
+    for (int m = 0; m < o.matches_per_point && (lo != by_sig.begin() || hi != by_sig.end()); ++m) {
+      const bool take_lo = hi == by_sig.end() || (lo != by_sig.begin() && sig - (lo - 1)->first <= hi->first - sig);
+      const auto it = take_lo ? --lo : hi++;
+      const Index s = it->second;
+      if ((it->first == kFlatSignature) != t_flat) continue;
+      double scale = 1.0;
+      if (!t_flat) {
+        const double ratio = target.curvatures()(0, t) / source.curvatures()(0, s);
+        if (!(ratio > 0)) continue;  // opposite bending: no similarity maps one to the other
+        if (o.allow_scale) {
+          scale = ratio;
+          if (std::log(scale) < log_min || std::log(scale) > log_max) continue;
+        } else if (std::abs(std::log(ratio)) > std::log(1.5)) {
+          continue;  // rigid: the curvatures must agree
+        }
+      }
+      const bool umbilic =
+          t_flat || std::abs(target.curvatures()(1, t)) > o.umbilic_ratio * std::abs(target.curvatures()(0, t));
+      const int variants = umbilic ? 4 : 2;
+      const Eigen::Matrix3d Fs = frame(source, s, 0);
+      for (int var = 0; var < variants; ++var) {
+        Similarity q;
+        q.rotation = Fs * frame(target, t, var).transpose();
+        q.scale = scale;
+        q.translation = source.positions().col(s) - scale * q.rotation * target.positions().col(t);
+        all.col(Index(out)) = embed(q, result, o);
+        owner[out++] = std::int32_t(t);
+      }
+    }
+  });
+  Index count = 0;
+  for (const auto w : owner) count += w >= 0;
+  result.embedding.resize(13, count);
+  result.voter.reserve(size_t(count));
+  for (size_t k = 0; k < owner.size(); ++k)
+    if (owner[k] >= 0) {
+      result.embedding.col(Index(result.voter.size())) = all.col(Index(k));
+      result.voter.push_back(owner[k]);
+    }
+  result.pairs = count;
+  return result;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,54 @@
+// vote node: candidate similarity transforms by pair voting (paper section 5.1, after Mitra, Guibas, Pauly 2006).
+//
+// A target sample t and a source sample s of similar curvature signature vote for the transform Q mapping target to
+// source (paper eq. 2 direction): R = F_s F_t^T with frames F = [d1, n x d1, n], s = k1_t / k1_s (1 where the surface
+// is too flat to tell, or when scale is not allowed), t = p_s - s R p_t. The k1 direction has a sign ambiguity, so
+// each pair votes twice (d1 and -d1); near umbilics, where d1 and d2 may swap, four times. Frames are proper rotations:
+// no reflections. Not all pairs vote: `target_samples` target points chosen by a seeded generator each match their
+// `matches_per_point` nearest source points in signature k2/k1 (flat points form a class of their own).
+// Each vote is embedded without angle wrap-around as the 13-vector
+//   [w_R vec(R), w_t (t - c) / diag, w_s log s]
+// (chordal rotation distance; c and diag the centre and diagonal of the source and target boxes together).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+
+namespace scanfill {
+
+struct VoteOptions {
+  Index target_samples = 4000;      // target points that vote; >= 1
+  int matches_per_point = 12;       // source points each voting target point pairs with; [1, 256]
+  bool allow_scale = true;          // similarity (true) or rigid (false) transforms
+  double min_scale = 0.25;          // scales outside [min_scale, max_scale] are not voted for; > 0
+  double max_scale = 4.0;           // >= min_scale
+  double flat_curvature = 0.02;     // |k1| alpha below this: too flat for a scale or a signature; >= 0
+  double umbilic_ratio = 0.75;      // |k2/k1| above this: four rotations per pair; (0, 1]
+  double rotation_weight = 1.0;     // w_R; > 0
+  double translation_weight = 8.0;  // w_t (translation in units of the bounding-box diagonal); > 0
+  double scale_weight = 2.0;        // w_s (log scale); > 0
+  std::uint64_t seed = 1;
+};
+
+using VoteMatrix = Eigen::Matrix<double, 13, Eigen::Dynamic>;
+
+struct VoteResult {
+  VoteMatrix embedding;             // 13 by V
+  std::vector<std::int32_t> voter;  // target sample of each vote
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double diagonal = 1.0;
+  Index pairs = 0;
+};
+
+// Embedding of a transform, and back (rotation projected to SO(3)).
+Eigen::Matrix<double, 13, 1> embed(const Similarity& q, const VoteResult& frame, const VoteOptions& o);
+Similarity unembed(const Eigen::Matrix<double, 13, 1>& x, const VoteResult& frame, const VoteOptions& o);
+
+// source and target need normals, curvatures and directions (the features node). `spacing` is the sample spacing
+// alpha. Throws InputError when either has no features.
+VoteResult vote(const PointSet& source, const PointSet& target, double spacing, const VoteOptions& options);
+
+}  // namespace scanfill
