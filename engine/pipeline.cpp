@@ -249,7 +249,8 @@ RunOutcome run_pipeline(const RunConfig& config) {
         return 0;
       });
       run_node(state, "support", "", [&](const ProgressFn&) {
-        a->support = grow_supports(S, T, a->modes.modes, a->spacing, config.support);
+        a->support = grow_supports(S, T, a->modes.modes, a->spacing, mode_accuracy(a->votes, config.vote, config.modes),
+                                   config.support);
         node_logger("support")->info("{} transforms with support of at least {} samples", a->support.transforms.size(),
                                      config.support.min_support);
         return 0;

@@ -35,4 +35,10 @@ inline double rotation_angle(const Eigen::Matrix3d& R) {
 // `to` (Umeyama 1991). Returns identity for fewer than 3 points.
 Similarity fit_similarity(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to, bool allow_scale);
 
+// One linearised point-to-plane step (Chen and Medioni 1992, with a scale term): the small similarity D about the
+// centroid of `moved` minimising sum ((D moved_i - to_i) . normal_i)^2; returns D q. `moved` = q(from), already
+// applied.
+Similarity point_to_plane_step(const Similarity& q, const Eigen::Matrix3Xd& moved, const Eigen::Matrix3Xd& to,
+                               const Eigen::Matrix3Xd& normals, bool allow_scale);
+
 }  // namespace scanfill

@@ -9,6 +9,10 @@
 
 namespace scanfill {
 
+double mode_accuracy(const VoteResult& votes, const VoteOptions& vo, const ModesOptions& o) {
+  return o.bandwidth * votes.diagonal / vo.translation_weight;
+}
+
 ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const ModesOptions& o) {
   ModesResult result;
   const Index n = votes.embedding.cols();

@@ -30,6 +30,9 @@ struct ModesResult {
   Index seeds = 0;
 };
 
+// How far (model units) a mode's transform may be from the truth: the bandwidth, in translation units.
+double mode_accuracy(const VoteResult& votes, const VoteOptions& vote_options, const ModesOptions& options);
+
 ModesResult find_modes(const VoteResult& votes, const VoteOptions& vote_options, const ModesOptions& options);
 
 }  // namespace scanfill

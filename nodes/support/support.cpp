@@ -59,7 +59,7 @@ std::vector<std::int32_t> grow(const Context& c, const Similarity& q, const std:
 }  // namespace
 
 SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
-                            double spacing, const SupportOptions& o) {
+                            double spacing, double mode_accuracy, const SupportOptions& o) {
   KdTree source_tree, target_tree;
   source_tree.build(source.positions());
   target_tree.build(target.positions());
@@ -71,28 +71,42 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
     target_tree.knn(target.positions().col(t), k + 1, idx, d2);
     for (int a = 0; a < k; ++a) graph[size_t(t) * size_t(k) + size_t(a)] = idx[a + 1];
   });
-  const Context c{
-      source, target, source_tree, graph, k, o.distance * spacing, std::cos(o.normal_angle_deg * M_PI / 180)};
+  const double fine = o.distance * spacing;
+  const Context c{source, target, source_tree, graph, k, fine, std::cos(o.normal_angle_deg * M_PI / 180)};
 
   std::vector<SupportedTransform> found(modes.size());
   tbb::parallel_for(size_t(0), modes.size(), [&](size_t m) {
     SupportedTransform st;
     st.transform = modes[m].transform;
-    st.support = grow(c, st.transform, modes[m].voters);
+    // Coarse to fine: start at the mode's accuracy, halve each ICP step, end at `distance` alpha.
+    Context cc = c;
+    cc.max_distance = std::max(fine, mode_accuracy);
+    st.support = grow(cc, st.transform, modes[m].voters);
     for (int it = 0; it < o.icp_iterations && Index(st.support.size()) >= 3; ++it) {
-      Eigen::Matrix3Xd from(3, Index(st.support.size())), to(3, Index(st.support.size()));
+      Eigen::Matrix3Xd from(3, Index(st.support.size())), to(3, Index(st.support.size())),
+          normals(3, Index(st.support.size()));
       Index n = 0;
       for (const auto t : st.support) {
-        const std::int32_t s = explained(c, st.transform, t);
+        const std::int32_t s = explained(cc, st.transform, t);
         if (s < 0) continue;
         from.col(n) = target.positions().col(t);
         to.col(n) = source.positions().col(s);
+        normals.col(n) = source.normals().col(s);
         ++n;
       }
       if (n < 3) break;
-      st.transform = fit_similarity(from.leftCols(n), to.leftCols(n), o.allow_scale);
-      st.support = grow(c, st.transform, st.support);
+      // Point-to-point steps while far (robust), then point-to-plane steps (precise, and they slide along faces).
+      if (it < o.icp_iterations / 2) {
+        st.transform = fit_similarity(from.leftCols(n), to.leftCols(n), o.allow_scale);
+      } else {
+        Eigen::Matrix3Xd moved(3, n);
+        for (Index i = 0; i < n; ++i) moved.col(i) = st.transform.apply(from.col(i));
+        st.transform = point_to_plane_step(st.transform, moved, to.leftCols(n), normals.leftCols(n), o.allow_scale);
+      }
+      cc.max_distance = std::max(fine, 0.5 * cc.max_distance);
+      st.support = grow(cc, st.transform, st.support);
     }
+    st.support = grow(c, st.transform, st.support.empty() ? modes[m].voters : st.support);
     double sum = 0;
     Index n = 0;
     for (const auto t : st.support) {
@@ -107,8 +121,9 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
   });
 
   // Strongest first; drop the small and the duplicates.
-  std::stable_sort(found.begin(), found.end(),
-                   [](const auto& a, const auto& b) { return a.support.size() > b.support.size(); });
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
+    return a.support.size() > b.support.size() || (a.support.size() == b.support.size() && a.rms < b.rms);
+  });
   SupportResult result;
   const double cos_dup = std::cos(o.duplicate_angle_deg * M_PI / 180);
   for (auto& st : found) {
@@ -118,6 +133,16 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
     centre /= double(st.support.size());
     bool duplicate = false;
     for (const auto& kept : result.transforms) {
+      Index common = 0;  // |kept.support ∩ st.support|, both ascending
+      for (size_t i = 0, j = 0; i < kept.support.size() && j < st.support.size();) {
+        if (kept.support[i] < st.support[j])
+          ++i;
+        else if (st.support[j] < kept.support[i])
+          ++j;
+        else
+          ++common, ++i, ++j;
+      }
+      if (double(common) >= o.redundant_overlap * double(st.support.size())) duplicate = true;
       const double cos_angle =
           (std::min(3.0, (kept.transform.rotation.transpose() * st.transform.rotation).trace()) - 1) / 2;
       if (cos_angle > cos_dup &&

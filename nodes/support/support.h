@@ -2,9 +2,14 @@
 //
 // A target sample t is explained by Q when Q p_t lies within `distance` alpha of a source sample s and their normals
 // agree within `normal_angle_deg` (R n_t . n_s). The support grows from the mode's voters over the target kNN graph,
-// never testing every mode against every sample. Each Q is then refined by similarity ICP on its support (the
-// label node's sigma_p = 0.1 alpha is far tighter than mean-shift accuracy) and the support re-grown. Transforms whose
-// support falls below `min_support` samples, or that end up within tolerance of a stronger one, are dropped.
+// never testing every mode against every sample. A mode is only as accurate as the mean-shift bandwidth allows
+// (`mode_accuracy`, model units), often several alpha at high density, so growth and ICP (point-to-point, then
+// point-to-plane) start at that distance and halve it each step down to `distance` alpha (the label node's sigma_p =
+// 0.1 alpha is far tighter than mean-shift accuracy); the support is then re-grown at `distance` alpha. Transforms that
+// explain (nearly) the same samples as a stronger one add nothing to the analogy but labels: the symmetric equivalents
+// of a box or a cylinder, or a part slid along a flat face. They are dropped (`redundant_overlap`), keeping the largest
+// support, then the lowest RMS distance. Transforms whose support falls below `min_support` samples, or that end up
+// within tolerance of a stronger one, are dropped.
 #pragma once
 
 #include <vector>
@@ -24,6 +29,8 @@ struct SupportOptions {
   bool allow_scale = true;           // refine as similarity (true) or rigid motion
   double duplicate_angle_deg = 2.0;  // transforms closer than this in rotation ...
   double duplicate_distance = 1.0;   // ... and moving the support centre less than this many alpha are merged
+  double redundant_overlap = 0.9;    // a transform whose support lies this much inside a stronger one's is dropped
+                                     // (a symmetric equivalent, or a slid part); (0, 1], 1 = only exact subsets
 };
 
 struct SupportedTransform {
@@ -37,6 +44,6 @@ struct SupportResult {
 };
 
 SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
-                            double spacing, const SupportOptions& options);
+                            double spacing, double mode_accuracy, const SupportOptions& options);
 
 }  // namespace scanfill

@@ -74,13 +74,19 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
     by_sig[size_t(i)] = {signature(source, i, spacing, o.flat_curvature), std::int32_t(i)};
   std::sort(by_sig.begin(), by_sig.end());
 
-  // Voting target points: a seeded sample without replacement.
-  std::vector<std::int32_t> voters(static_cast<size_t>(target.size()));
-  std::iota(voters.begin(), voters.end(), 0);
+  // Voting target points: a seeded sample without replacement, of the curved points when there are enough.
+  std::vector<std::int32_t> voters;
+  for (Index t = 0; t < target.size(); ++t)
+    if (signature(target, t, spacing, o.flat_curvature) != kFlatSignature) voters.push_back(std::int32_t(t));
+  if (double(voters.size()) < o.min_curved_fraction * double(target.size())) {
+    voters.resize(static_cast<size_t>(target.size()));
+    std::iota(voters.begin(), voters.end(), 0);
+  }
   std::mt19937_64 rng(o.seed);
-  const Index n_voters = std::min<Index>(o.target_samples, target.size());
+  const Index pool = Index(voters.size());
+  const Index n_voters = std::min<Index>(o.target_samples, pool);
   for (Index k = 0; k < n_voters; ++k)
-    std::swap(voters[size_t(k)], voters[size_t(k + Index(rng() % std::uint64_t(target.size() - k)))]);
+    std::swap(voters[size_t(k)], voters[size_t(k + Index(rng() % std::uint64_t(pool - k)))]);
   voters.resize(size_t(n_voters));
   std::sort(voters.begin(), voters.end());
 

@@ -6,7 +6,10 @@
 // each pair votes twice (d1 and -d1); near umbilics, where d1 and d2 may swap, four times. Frames are proper rotations:
 // no reflections. Not all pairs vote: `target_samples` target points chosen by a seeded generator each match their
 // `matches_per_point` nearest source points in signature k2/k1 (flat points form a class of their own).
-// Each vote is embedded without angle wrap-around as the 13-vector
+// Flat target points (|k1| alpha < flat_curvature) pair with any flat source point under any in-plane slide, so they
+// flood the vote space with sliding transforms (as Mitra et al. note, pruning low-curvature points): they vote only
+// when fewer than `min_curved_fraction` of the target points are curved. Each vote is embedded without angle
+// wrap-around as the 13-vector
 //   [w_R vec(R), w_t (t - c) / diag, w_s log s]
 // (chordal rotation distance; c and diag the centre and diagonal of the source and target boxes together).
 #pragma once
@@ -20,16 +23,17 @@
 namespace scanfill {
 
 struct VoteOptions {
-  Index target_samples = 4000;      // target points that vote; >= 1
-  int matches_per_point = 12;       // source points each voting target point pairs with; [1, 256]
-  bool allow_scale = true;          // similarity (true) or rigid (false) transforms
-  double min_scale = 0.25;          // scales outside [min_scale, max_scale] are not voted for; > 0
-  double max_scale = 4.0;           // >= min_scale
-  double flat_curvature = 0.02;     // |k1| alpha below this: too flat for a scale or a signature; >= 0
-  double umbilic_ratio = 0.75;      // |k2/k1| above this: four rotations per pair; (0, 1]
-  double rotation_weight = 1.0;     // w_R; > 0
-  double translation_weight = 8.0;  // w_t (translation in units of the bounding-box diagonal); > 0
-  double scale_weight = 2.0;        // w_s (log scale); > 0
+  Index target_samples = 4000;        // target points that vote; >= 1
+  int matches_per_point = 12;         // source points each voting target point pairs with; [1, 256]
+  bool allow_scale = true;            // similarity (true) or rigid (false) transforms
+  double min_scale = 0.25;            // scales outside [min_scale, max_scale] are not voted for; > 0
+  double max_scale = 4.0;             // >= min_scale
+  double flat_curvature = 0.02;       // |k1| alpha below this: too flat for a scale or a signature; >= 0
+  double umbilic_ratio = 0.75;        // |k2/k1| above this: four rotations per pair; (0, 1]
+  double min_curved_fraction = 0.05;  // flat target points vote only if fewer curved points than this; [0, 1]
+  double rotation_weight = 1.0;       // w_R; > 0
+  double translation_weight = 8.0;    // w_t (translation in units of the bounding-box diagonal); > 0
+  double scale_weight = 2.0;          // w_s (log scale); > 0
   std::uint64_t seed = 1;
 };
 

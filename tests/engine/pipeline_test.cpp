@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/config.h"
 #include "engine/console.h"
 #include "nodes/core/errors.h"
 #include "nodes/io/read_point_set.h"
@@ -40,6 +41,34 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   for (const char* n :
        {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template", "write"})
     EXPECT_TRUE(names.count(n)) << n;
+}
+
+TEST(Pipeline, AnalogyModeWritesTheLabelledTargetAndTheTransforms) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  RunConfig c = load_config(test::source_dir() / "configs" / "analogy_l.yaml");
+  c.output_dir = dir / "out";
+  run_pipeline(c);
+  const std::string ply = test::read_bytes(dir / "out" / "analogy.ply");
+  EXPECT_NE(ply.find("property int label\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"),
+            std::string::npos);
+  const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
+  EXPECT_EQ(report["mode"], "analogy");
+  const auto& transforms = report["transforms"];
+  ASSERT_GE(transforms.size(), 3u);
+  EXPECT_EQ(transforms.back()["kind"], "self");
+  // One transform per box of the L, nothing self-referenced, every sample labelled once.
+  int used = 0;
+  long labelled = 0;
+  for (const auto& t : transforms) {
+    used += t["labelled"].get<long>() > 0;
+    labelled += t["labelled"].get<long>();
+    EXPECT_EQ(t["rotation"].size(), 3u);
+  }
+  EXPECT_EQ(used, 2);
+  EXPECT_EQ(transforms.back()["labelled"], 0);
+  EXPECT_EQ(labelled, report["inputs"]["target"]["samples"].get<long>());
+  EXPECT_LT(report["energy"]["after"].get<double>(), report["energy"]["before"].get<double>());
 }
 
 TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
