@@ -163,6 +163,24 @@ PointSet make_vase_template(int segments) {
   return vase(0, 0, segments, false);
 }
 
+PointSet transformed(const PointSet& mesh, const Similarity& q) {
+  Eigen::Matrix3Xd p(3, mesh.size());
+  for (Index i = 0; i < mesh.size(); ++i) p.col(i) = q.apply(mesh.positions().col(i));
+  PointSet out(std::move(p));
+  if (mesh.has_faces()) out.set_faces(mesh.faces());
+  return out;
+}
+
+PointSet merged(const PointSet& a, const PointSet& b) {
+  Eigen::Matrix3Xd p(3, a.size() + b.size());
+  p << a.positions(), b.positions();
+  Matrix3Xi f(3, a.faces().cols() + b.faces().cols());
+  f << a.faces(), (b.faces().array() + std::int32_t(a.size())).matrix();
+  PointSet out(std::move(p));
+  if (f.cols() > 0) out.set_faces(std::move(f));
+  return out;
+}
+
 const std::vector<std::string>& shape_names() {
   static const std::vector<std::string> names{"plane", "sphere", "cylinder", "blob",
                                               "box",   "box_l",  "vase",     "vase_template"};
@@ -176,15 +194,11 @@ PointSet make_shape(const std::string& name) {
   if (name == "blob") return make_blob();
   if (name == "box") return make_box(Eigen::Vector3d(1.0, 0.4, 0.4));
   if (name == "box_l") {  // two boxes in an L: the paper's simplest analogy (one source box, two target parts)
-    const PointSet a = make_box(Eigen::Vector3d(1.0, 0.4, 0.4));
-    Eigen::Matrix3Xd p(3, 2 * a.size());
-    const Eigen::Matrix3d up = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    p << a.positions(), (up * a.positions()).colwise() + Eigen::Vector3d(0.3, 0, 0.7);
-    Matrix3Xi f(3, 2 * a.faces().cols());
-    f << a.faces(), (a.faces().array() + std::int32_t(a.size())).matrix();
-    PointSet l(std::move(p));
-    l.set_faces(std::move(f));
-    return l;
+    const PointSet box = make_box(Eigen::Vector3d(1.0, 0.4, 0.4));
+    Similarity up;
+    up.rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    up.translation = Eigen::Vector3d(0.3, 0, 0.7);
+    return merged(box, transformed(box, up));
   }
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
 
 namespace scanfill {
 
@@ -29,6 +30,10 @@ PointSet make_box(const Eigen::Vector3d& size, int segments_per_unit = 32);
 // A sphere of radius 0.5 with `bumps` Gaussian bumps of random size in random directions (seeded): a shape without
 // symmetry, with curvature that varies everywhere, for tests whose transform must be unique.
 PointSet make_blob(int bumps = 8, std::uint64_t seed = 3, int segments = 128);
+
+// The mesh moved by q (faces kept), and two meshes as one.
+PointSet transformed(const PointSet& mesh, const Similarity& q);
+PointSet merged(const PointSet& a, const PointSet& b);
 
 // Shape by name ("plane", "sphere", "cylinder", "blob", "vase", "vase_template"), with default sizes; throws InputError
 // for an unknown name, listing the valid ones.

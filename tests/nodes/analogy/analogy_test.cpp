@@ -16,24 +16,6 @@
 namespace scanfill {
 namespace {
 
-PointSet transformed(const PointSet& mesh, const Similarity& g) {
-  Eigen::Matrix3Xd p(3, mesh.size());
-  for (Index i = 0; i < mesh.size(); ++i) p.col(i) = g.apply(mesh.positions().col(i));
-  PointSet out(std::move(p));
-  out.set_faces(mesh.faces());
-  return out;
-}
-
-PointSet merged(const PointSet& a, const PointSet& b) {
-  Eigen::Matrix3Xd p(3, a.size() + b.size());
-  p << a.positions(), b.positions();
-  Matrix3Xi f(3, a.faces().cols() + b.faces().cols());
-  f << a.faces(), (b.faces().array() + std::int32_t(a.size())).matrix();
-  PointSet out(std::move(p));
-  out.set_faces(std::move(f));
-  return out;
-}
-
 struct Analogy {
   PointSet source, target;
   double spacing = 0;
