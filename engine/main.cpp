@@ -13,6 +13,7 @@
 #include "engine/fields.h"
 #include "engine/pipeline.h"
 #include "nodes/core/errors.h"
+#include "nodes/eval/evaluate.h"
 #include "nodes/io/write_ply.h"
 
 namespace {
@@ -93,6 +94,51 @@ int run_sample(const std::string& input, const std::string& output, double spaci
   return 0;
 }
 
+// A file, or procedural:NAME (as in configs).
+PointSet load_for_eval(const std::string& text) {
+  InputSpec spec;
+  spec.text = text;
+  if (text.rfind("procedural:", 0) == 0)
+    spec.procedural = text.substr(11);
+  else
+    spec.path = text;
+  LoadResult r = load_input(spec, LoadOptions{});
+  for (const auto& w : r.warnings) spdlog::warn("{}", w);
+  return r.points;
+}
+
+int run_eval(const std::string& output, const std::string& reference, double threshold, const std::string& scan,
+             const std::string& template_shape, Index samples) {
+  if (scan.empty() != template_shape.empty()) return fail("eval: --scan and --template go together", 2);
+  EvalOptions o;
+  o.threshold = threshold;
+  o.surface_samples = samples;
+  const PointSet out = load_for_eval(output), ref = load_for_eval(reference);
+  PointSet s, t;
+  if (!scan.empty()) {
+    s = load_for_eval(scan);
+    t = load_for_eval(template_shape);
+  }
+  const EvalResult r = evaluate(out, ref, o, scan.empty() ? nullptr : &s, scan.empty() ? nullptr : &t);
+  nlohmann::json j = {{"chamfer_l1", r.chamfer_l1},
+                      {"chamfer_l2", r.chamfer_l2},
+                      {"fscore", r.fscore},
+                      {"precision", r.precision},
+                      {"recall", r.recall},
+                      {"hausdorff", r.hausdorff},
+                      {"normal_consistency", r.normal_consistency},
+                      {"threshold", threshold},
+                      {"tau", r.tau},
+                      {"chamfer_convention",
+                       "chamfer_l1 = (mean d(o,R) + mean d(r,O)) / 2; chamfer_l2 the same with squared distances"}};
+  if (r.unseen_detail_recall) {
+    j["unseen_detail_recall"] = *r.unseen_detail_recall;
+    j["unseen_detail_points"] = r.unseen_detail_points;
+  }
+  std::cout << j.dump(2) << std::endl;
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,6 +177,19 @@ int main(int argc, char** argv) {
   samp->add_option("--seed", s_seed, "random seed (meshes)");
   samp->add_option("--k", s_k, "neighbours for normals and curvature")->check(CLI::Range(6, 128));
   add_common(samp);
+  CLI::App* ev = app.add_subcommand("eval", "accuracy of an output against a complete reference, as JSON");
+  std::string e_out, e_ref, e_scan, e_template;
+  double e_threshold = 0.01;
+  Index e_samples = EvalOptions{}.surface_samples;
+  ev->add_option("--output", e_out, "the completed or stylised model (file or procedural:NAME)")->required();
+  ev->add_option("--reference", e_ref, "the complete model to compare with")->required();
+  ev->add_option("--threshold", e_threshold, "F-score distance as a fraction of the reference's bounding-box diagonal")
+      ->check(CLI::Range(1e-9, 1.0));
+  ev->add_option("--scan", e_scan, "the partial scan (with --template: unseen-detail recall)");
+  ev->add_option("--template", e_template, "the structural template (with --scan)");
+  ev->add_option("--samples", e_samples, "random points drawn on each mesh")
+      ->check(CLI::Range(Index(1), Index(1) << 30));
+  add_common(ev);
   app.require_subcommand(0, 1);
 
   try {
@@ -147,6 +206,10 @@ int main(int argc, char** argv) {
     if (info->parsed()) {
       const auto limit = limit_threads(threads);
       return run_info(info_file, info_json);
+    }
+    if (ev->parsed()) {
+      const auto limit = limit_threads(threads);
+      return run_eval(e_out, e_ref, e_threshold, e_scan, e_template, e_samples);
     }
     if (samp->parsed()) {
       const auto limit = limit_threads(threads);

@@ -11,8 +11,12 @@ namespace {
 
 using test::run_scanfill;
 
+// Shell-quoted path, built with += (GCC 12 warns falsely on "'" + std::string&&, PR 105329).
 std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
+  std::string s = "'";
+  s += p.string();
+  s += "'";
+  return s;
 }
 
 TEST(Cli, VersionHelpAndNothingToDo) {
@@ -95,6 +99,26 @@ TEST(Cli, BadInputsExitNonZeroWithOneLineAndWriteNothing) {
   // Runtime errors are a single line.
   const auto r = run_scanfill("info " + q(dir / "empty.ply"));
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Cli, EvalPrintsTheContractedScores) {
+  const auto r = run_scanfill(
+      "eval --output procedural:vase --reference procedural:vase --scan procedural:vase "
+      "--template procedural:vase_template --samples 20000 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"chamfer_l1", "chamfer_l2", "fscore", "precision", "recall", "hausdorff",
+                          "normal_consistency", "unseen_detail_recall"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_DOUBLE_EQ(j["fscore"].get<double>(), 1.0);
+  test::TempDir dir;
+  test::write_bytes(dir / "empty.ply", "");
+  const auto bad = run_scanfill("eval --output " + q(dir / "empty.ply") + " --reference procedural:vase");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("empty.ply: file is empty"), std::string::npos) << bad.out;
+  const auto half = run_scanfill("eval --output procedural:vase --reference procedural:vase --scan procedural:vase");
+  EXPECT_EQ(half.exit_code, 2);
+  EXPECT_NE(half.out.find("--scan and --template go together"), std::string::npos) << half.out;
 }
 
 TEST(Cli, SampleWritesTheFixedPropertiesAndIsIdenticalOnOneAndTwoThreads) {
