@@ -4,12 +4,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include <Eigen/Geometry>
-#include <random>
-
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/features/estimate_features.h"
+#include "nodes/sample/sample.h"
 
 namespace scanfill {
 namespace {
@@ -22,30 +20,7 @@ PointSet surface_points(const PointSet& in, const EvalOptions& o) {
     f.smooth_directions = false;
     return estimate_features(in, f).points;
   }
-  const auto& P = in.positions();
-  const auto& F = in.faces();
-  std::vector<double> cumulative(static_cast<size_t>(F.cols()));
-  double total = 0;
-  for (Index f = 0; f < F.cols(); ++f) {
-    total += 0.5 * (P.col(F(1, f)) - P.col(F(0, f))).cross(P.col(F(2, f)) - P.col(F(0, f))).norm();
-    cumulative[size_t(f)] = total;
-  }
-  if (!(total > 0)) throw InputError("a mesh of zero area cannot be evaluated");
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  Eigen::Matrix3Xd pts(3, o.surface_samples), nrm(3, o.surface_samples);
-  for (Index i = 0; i < o.surface_samples; ++i) {
-    const Index f = std::min<Index>(
-        F.cols() - 1,
-        Index(std::upper_bound(cumulative.begin(), cumulative.end(), u(rng) * total) - cumulative.begin()));
-    const double s = std::sqrt(u(rng)), t = u(rng);
-    const Eigen::Vector3d a = P.col(F(0, f)), b = P.col(F(1, f)), c = P.col(F(2, f));
-    pts.col(i) = (1 - s) * a + s * (1 - t) * b + s * t * c;
-    nrm.col(i) = (b - a).cross(c - a).normalized();
-  }
-  PointSet out(std::move(pts));
-  out.set_normals(std::move(nrm));
-  return out;
+  return random_surface_points(in, o.surface_samples, o.seed);
 }
 
 struct Directed {

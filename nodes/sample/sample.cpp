@@ -120,6 +120,16 @@ double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
 
 }  // namespace
 
+PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed) {
+  if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
+  double area = 0;
+  Candidates c = mesh_candidates(mesh, n, seed, area);
+  PointSet out(std::move(c.positions));
+  out.set_normals(std::move(c.normals));
+  out.set_face_provenance(std::move(c.face), std::move(c.bary));
+  return out;
+}
+
 Index count_for_spacing(double area, double spacing) {
   return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
 }

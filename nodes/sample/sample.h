@@ -42,6 +42,11 @@ struct SampleResult {
 // Throws InputError when the input cannot give what is asked (fewer cloud points than samples, a mesh of zero area).
 SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress = {});
 
+// n area-weighted random points on a mesh's triangles (the sampler's candidates): positions, normals (interpolated
+// vertex normals when the mesh has them, else face normals) and face provenance, in Morton order; the same points on
+// any thread count for a seed. Throws InputError for a mesh of zero area.
+PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed);
+
 // Sample count that gives a mean nearest-neighbour distance of `spacing` on a surface of `area` (measured on WSE
 // output, see tests/nodes/sample_test.cpp).
 Index count_for_spacing(double area, double spacing);
