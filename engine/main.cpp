@@ -5,6 +5,7 @@
 #include <tbb/info.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,7 @@
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/io/write_ply.h"
+#include "nodes/scan/virtual_scan.h"
 
 namespace {
 
@@ -139,6 +141,36 @@ int run_eval(const std::string& output, const std::string& reference, double thr
   return 0;
 }
 
+// "X,Y,Z" -> vector; false if malformed.
+bool parse_vec3(const std::string& s, Eigen::Vector3d& v) {
+  char extra;
+  return std::sscanf(s.c_str(), "%lf,%lf,%lf%c", &v.x(), &v.y(), &v.z(), &extra) == 3 && v.allFinite();
+}
+
+int run_scan(const std::string& input, const std::string& output, const std::string& eye, const std::string& target,
+             const std::string& resolution, double fov, double noise, std::uint64_t seed) {
+  ScanOptions o;
+  if (!parse_vec3(eye, o.eye)) return fail("scan: --eye expects X,Y,Z, got '" + eye + "'", 2);
+  if (!target.empty() && !parse_vec3(target, o.target))
+    return fail("scan: --target expects X,Y,Z, got '" + target + "'", 2);
+  if (!resolution.empty()) {
+    char extra;
+    if (std::sscanf(resolution.c_str(), "%d,%d%c", &o.width, &o.height, &extra) != 2 || o.width < 1 || o.height < 1 ||
+        o.width > 16384 || o.height > 16384)
+      return fail("scan: --resolution expects W,H with 1 <= W, H <= 16384, got '" + resolution + "'", 2);
+  }
+  if ((o.eye - o.target).norm() == 0) return fail("scan: --eye and --target must differ", 2);
+  if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
+  o.fov_deg = fov;
+  o.noise = noise;
+  o.seed = seed;
+  const PointSet mesh = load_for_eval(input);
+  const ScanResult r = virtual_scan(mesh, o);
+  write_ply(output, r.points);
+  spdlog::info("{} points seen from ({}) of {} -> {}", r.pixels_hit, eye, input, output);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -190,6 +222,19 @@ int main(int argc, char** argv) {
   ev->add_option("--samples", e_samples, "random points drawn on each mesh")
       ->check(CLI::Range(Index(1), Index(1) << 30));
   add_common(ev);
+  CLI::App* sc = app.add_subcommand("scan", "a single-view virtual range scan of a mesh, written as PLY");
+  std::string c_in, c_out, c_eye, c_target, c_resolution;
+  double c_fov = ScanOptions{}.fov_deg, c_noise = 0;
+  std::uint64_t c_seed = 1;
+  sc->add_option("--input", c_in, "the mesh (file or procedural:NAME)")->required();
+  sc->add_option("--output", c_out, "output .ply (x y z nx ny nz; viewpoint = the eye)")->required();
+  sc->add_option("--eye", c_eye, "camera position X,Y,Z")->required();
+  sc->add_option("--target", c_target, "point looked at X,Y,Z (default 0,0,0)");
+  sc->add_option("--resolution", c_resolution, "image size W,H (default 640,480)");
+  sc->add_option("--fov", c_fov, "vertical field of view in degrees")->check(CLI::Range(0.001, 179.0));
+  sc->add_option("--noise", c_noise, "Gaussian noise sigma along the ray, model units")->check(CLI::NonNegativeNumber);
+  sc->add_option("--seed", c_seed, "noise seed");
+  add_common(sc);
   app.require_subcommand(0, 1);
 
   try {
@@ -206,6 +251,10 @@ int main(int argc, char** argv) {
     if (info->parsed()) {
       const auto limit = limit_threads(threads);
       return run_info(info_file, info_json);
+    }
+    if (sc->parsed()) {
+      const auto limit = limit_threads(threads);
+      return run_scan(c_in, c_out, c_eye, c_target, c_resolution, c_fov, c_noise, c_seed);
     }
     if (ev->parsed()) {
       const auto limit = limit_threads(threads);

@@ -101,6 +101,20 @@ TEST(Cli, BadInputsExitNonZeroWithOneLineAndWriteNothing) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+TEST(Cli, ScanWritesASingleViewAndRefusesBadOptions) {
+  test::TempDir dir;
+  const auto ok = run_scanfill("scan --input procedural:vase --output " + q(dir / "s.ply") +
+                               " --eye 0,-3,0.5 --target 0,0,0.5 --resolution 320,240 --noise 0.001 --quiet");
+  ASSERT_EQ(ok.exit_code, 0) << ok.out;
+  const auto info = nlohmann::json::parse(run_scanfill("info --json " + q(dir / "s.ply")).out);
+  EXPECT_GT(info["points"].get<long>(), 5000);
+  EXPECT_LT(info["bbox"][1][1].get<double>(), 0.25);  // only the side facing the eye at y = -3 (the far side is y > 0)
+  const auto bad = run_scanfill("scan --input procedural:vase --output " + q(dir / "b.ply") + " --eye 0,-3");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.out.find("--eye expects X,Y,Z, got '0,-3'"), std::string::npos) << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.ply"));
+}
+
 TEST(Cli, EvalPrintsTheContractedScores) {
   const auto r = run_scanfill(
       "eval --output procedural:vase --reference procedural:vase --scan procedural:vase "

@@ -1,0 +1,99 @@
+#include "nodes/scan/virtual_scan.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+
+ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& o) {
+  if (!mesh.has_faces()) throw InputError("the virtual scanner needs a mesh (faces), not a point cloud");
+  const Eigen::Vector3d forward = (o.target - o.eye).normalized();
+  if (!forward.allFinite()) throw InputError("scanner eye and target coincide");
+  Eigen::Vector3d up = o.up;
+  if (forward.cross(up).norm() < 1e-9)
+    up = std::abs(forward.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d right = forward.cross(up).normalized(), cam_up = right.cross(forward);
+  const double tan_half = std::tan(o.fov_deg * M_PI / 360.0), aspect = double(o.width) / double(o.height);
+  const double near = 1e-9;
+  const int W = o.width, H = o.height;
+
+  // Camera coordinates and pixel positions of the vertices.
+  const auto& P = mesh.positions();
+  const Index nv = P.cols();
+  Eigen::Matrix3Xd cam(3, nv);
+  Eigen::Matrix2Xd pix(2, nv);
+  for (Index i = 0; i < nv; ++i) {
+    const Eigen::Vector3d d = P.col(i) - o.eye;
+    cam.col(i) << d.dot(right), d.dot(cam_up), d.dot(forward);
+    const double z = cam(2, i);
+    pix.col(i) << (cam(0, i) / (z * tan_half * aspect) + 1) * 0.5 * W, (1 - cam(1, i) / (z * tan_half)) * 0.5 * H;
+  }
+  // z-buffer: depth along `forward` and the face seen, per pixel.
+  std::vector<double> depth(size_t(W) * size_t(H), std::numeric_limits<double>::infinity());
+  std::vector<std::int32_t> face(size_t(W) * size_t(H), -1);
+  const auto& F = mesh.faces();
+  for (Index f = 0; f < F.cols(); ++f) {
+    const int a = F(0, f), b = F(1, f), c = F(2, f);
+    if (cam(2, a) <= near || cam(2, b) <= near || cam(2, c) <= near) continue;  // behind the camera: not scanned
+    const Eigen::Vector3d n = (P.col(b) - P.col(a)).cross(P.col(c) - P.col(a));
+    if (n.dot(o.eye - P.col(a)) <= 0) continue;  // back face
+    const Eigen::Vector2d pa = pix.col(a), pb = pix.col(b), pc = pix.col(c);
+    const double area = (pb - pa).x() * (pc - pa).y() - (pb - pa).y() * (pc - pa).x();
+    if (std::abs(area) < 1e-18) continue;
+    const int x0 = std::max(0, int(std::floor(std::min({pa.x(), pb.x(), pc.x()})))),
+              x1 = std::min(W - 1, int(std::ceil(std::max({pa.x(), pb.x(), pc.x()})))),
+              y0 = std::max(0, int(std::floor(std::min({pa.y(), pb.y(), pc.y()})))),
+              y1 = std::min(H - 1, int(std::ceil(std::max({pa.y(), pb.y(), pc.y()}))));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d q(x + 0.5, y + 0.5);
+        // Screen-space barycentrics; depth interpolated as 1/z (perspective-correct).
+        const double w0 = ((pb - q).x() * (pc - q).y() - (pb - q).y() * (pc - q).x()) / area;
+        const double w1 = ((pc - q).x() * (pa - q).y() - (pc - q).y() * (pa - q).x()) / area;
+        const double w2 = 1 - w0 - w1;
+        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+        const double z = 1.0 / (w0 / cam(2, a) + w1 / cam(2, b) + w2 / cam(2, c));
+        const size_t k = size_t(y) * size_t(W) + size_t(x);
+        if (z < depth[k]) {
+          depth[k] = z;
+          face[k] = std::int32_t(f);
+        }
+      }
+  }
+  // One point per pixel that sees the surface, in row-major pixel order.
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> pts, nrm;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t k = size_t(y) * size_t(W) + size_t(x);
+      if (face[k] < 0) continue;
+      const double xn = (x + 0.5) / (0.5 * W) - 1, yn = 1 - (y + 0.5) / (0.5 * H);
+      const Eigen::Vector3d ray = (forward + xn * tan_half * aspect * right + yn * tan_half * cam_up).normalized();
+      double along = depth[k] / ray.dot(forward);
+      if (o.noise > 0) along += o.noise * gauss(rng);
+      pts.push_back(o.eye + along * ray);
+      const auto f = face[k];
+      Eigen::Vector3d n = (P.col(F(1, f)) - P.col(F(0, f))).cross(P.col(F(2, f)) - P.col(F(0, f))).normalized();
+      nrm.push_back(n);
+    }
+  if (pts.empty()) throw InputError("no pixel of the virtual scanner sees the mesh (check --eye and --target)");
+  ScanResult result;
+  result.pixels_hit = Index(pts.size());
+  Eigen::Matrix3Xd Pm(3, result.pixels_hit), Nm(3, result.pixels_hit);
+  for (Index i = 0; i < result.pixels_hit; ++i) {
+    Pm.col(i) = pts[size_t(i)];
+    Nm.col(i) = nrm[size_t(i)];
+  }
+  result.points.set_positions(std::move(Pm));
+  result.points.set_normals(std::move(Nm));
+  result.points.set_viewpoint(o.eye);
+  return result;
+}
+
+}  // namespace scanfill
