@@ -97,7 +97,7 @@ int run_sample(const std::string& input, const std::string& output, double spaci
 }
 
 // A file, or procedural:NAME (as in configs).
-PointSet load_for_eval(const std::string& text) {
+PointSet load_shape(const std::string& text) {
   InputSpec spec;
   spec.text = text;
   if (text.rfind("procedural:", 0) == 0)
@@ -115,11 +115,11 @@ int run_eval(const std::string& output, const std::string& reference, double thr
   EvalOptions o;
   o.threshold = threshold;
   o.surface_samples = samples;
-  const PointSet out = load_for_eval(output), ref = load_for_eval(reference);
+  const PointSet out = load_shape(output), ref = load_shape(reference);
   PointSet s, t;
   if (!scan.empty()) {
-    s = load_for_eval(scan);
-    t = load_for_eval(template_shape);
+    s = load_shape(scan);
+    t = load_shape(template_shape);
   }
   const EvalResult r = evaluate(out, ref, o, scan.empty() ? nullptr : &s, scan.empty() ? nullptr : &t);
   nlohmann::json j = {{"chamfer_l1", r.chamfer_l1},
@@ -164,7 +164,7 @@ int run_scan(const std::string& input, const std::string& output, const std::str
   o.fov_deg = fov;
   o.noise = noise;
   o.seed = seed;
-  const PointSet mesh = load_for_eval(input);
+  const PointSet mesh = load_shape(input);
   const ScanResult r = virtual_scan(mesh, o);
   write_ply(output, r.points);
   spdlog::info("{} points seen from ({}) of {} -> {}", r.pixels_hit, eye, input, output);

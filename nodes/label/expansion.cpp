@@ -94,8 +94,6 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
           vars.push_back(i);
         }
       if (vars.empty()) continue;
-      std::fill(count.begin(), count.end(), 0);
-      for (Index i = 0; i < p.sites; ++i) ++count[size_t(f[size_t(i)])];
       // Unary terms of the variables.
       for (const auto i : vars) move.add_unary(var[size_t(i)], unary(p, i, f[size_t(i)]), unary(p, i, a));
       // Pairwise terms touching a variable (each edge once: from its lower-numbered variable end, or its only one).
@@ -150,6 +148,11 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
       for (const auto i : vars) var[size_t(i)] = -1;
       const double e_new = labeling_energy(p, g);
       if (e_new < energy - 1e-12 * std::max(1.0, std::abs(energy))) {
+        for (const auto i : vars)
+          if (g[size_t(i)] != f[size_t(i)]) {
+            --count[size_t(f[size_t(i)])];
+            ++count[size_t(a)];
+          }
         f.swap(g);
         energy = e_new;
         changed = true;

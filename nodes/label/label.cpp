@@ -45,29 +45,45 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
   target_tree.build(target.positions());
   const double sp2 = 2 * std::pow(o.sigma_p * spacing, 2), sn2 = o.sigma_n * o.sigma_n;
 
-  // Feasible labels per site: within `dilation` alpha of the label's support (a kd-tree per support).
-  std::vector<std::vector<std::pair<int, double>>> unaries(static_cast<size_t>(n));
-  std::vector<std::vector<std::uint8_t>> feasible(static_cast<size_t>(L));
+  // Feasible labels, sparse: the sites within `dilation` alpha of a label's support, found by radius queries around
+  // the support samples (never a test of every site against every label).
+  const double reach = o.dilation * spacing, reach2 = reach * reach + 1e-30;
+  std::vector<std::vector<std::int32_t>> feasible(static_cast<size_t>(L));
   tbb::parallel_for(0, L, [&](int l) {
-    auto& f = feasible[size_t(l)];
-    f.assign(size_t(n), 0);
-    Eigen::Matrix3Xd pts(3, Index(transforms[size_t(l)].support.size()));
-    for (size_t k = 0; k < transforms[size_t(l)].support.size(); ++k)
-      pts.col(Index(k)) = target.positions().col(transforms[size_t(l)].support[k]);
-    KdTree tree;
-    tree.build(pts);
-    for (Index t = 0; t < n; ++t) {
-      std::int32_t i;
-      double d2;
-      tree.knn(target.positions().col(t), 1, &i, &d2);
-      f[size_t(t)] = d2 <= std::pow(o.dilation * spacing, 2) + 1e-30;
+    auto& sites = feasible[size_t(l)];
+    std::vector<Neighbor> hits;
+    for (const auto t : transforms[size_t(l)].support) {
+      sites.push_back(t);
+      target_tree.radius(target.positions().col(t), reach * (1 + 1e-9) + 1e-15, hits);
+      for (const Neighbor& h : hits)
+        if (h.distance2 <= reach2) sites.push_back(h.index);
     }
+    std::sort(sites.begin(), sites.end());
+    sites.erase(std::unique(sites.begin(), sites.end()), sites.end());
   });
-  // Unaries (eq. 5, log domain, capped).
+  // Unaries (eq. 5, log domain, capped) in CSR by site: the feasible labels in increasing order, then the self label.
+  LabelingProblem problem;
+  problem.labels = L + 1;
+  problem.sites = n;
+  problem.unary_offset.assign(size_t(n) + 1, 0);
+  for (const auto& sites : feasible)
+    for (const auto t : sites) ++problem.unary_offset[size_t(t) + 1];
+  for (Index t = 0; t < n; ++t) problem.unary_offset[size_t(t) + 1] += problem.unary_offset[size_t(t)] + 1;  // + self
+  problem.unary_label.resize(size_t(problem.unary_offset.back()));
+  problem.unary_cost.resize(size_t(problem.unary_offset.back()));
+  {
+    std::vector<std::int64_t> fill(problem.unary_offset.begin(), problem.unary_offset.end() - 1);
+    for (int l = 0; l < L; ++l)
+      for (const auto t : feasible[size_t(l)]) problem.unary_label[size_t(fill[size_t(t)]++)] = l;
+    for (Index t = 0; t < n; ++t) problem.unary_label[size_t(fill[size_t(t)])] = L;
+  }
   tbb::parallel_for(Index(0), n, [&](Index t) {
-    auto& u = unaries[size_t(t)];
-    for (int l = 0; l < L; ++l) {
-      if (!feasible[size_t(l)][size_t(t)]) continue;
+    for (std::int64_t e = problem.unary_offset[size_t(t)]; e < problem.unary_offset[size_t(t) + 1]; ++e) {
+      const int l = problem.unary_label[size_t(e)];
+      if (l == L) {
+        problem.unary_cost[size_t(e)] = o.self_cost;
+        continue;
+      }
       const Similarity& q = transforms[size_t(l)].transform;
       const Eigen::Vector3d p = q.apply(target.positions().col(t));
       std::int32_t s;
@@ -80,14 +96,9 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
         d = std::hypot(plane, std::max(0.0, d_point - spacing));
       }
       const double c = q.apply_normal(target.normals().col(t)).dot(source.normals().col(s));
-      u.push_back({l, std::min(o.unary_cap, d * d / sp2 + (1 - c) / sn2)});
+      problem.unary_cost[size_t(e)] = std::min(o.unary_cap, d * d / sp2 + (1 - c) / sn2);
     }
-    u.push_back({L, o.self_cost});
   });
-
-  LabelingProblem problem;
-  problem.labels = L + 1;
-  for (Index t = 0; t < n; ++t) problem.add_site(unaries[size_t(t)]);
   // MRF edges: mrf_k nearest neighbours with compatible normals, each pair once.
   const int k = std::min<int>(o.mrf_k, int(n) - 1);
   std::vector<std::int32_t> knn(static_cast<size_t>(n) * size_t(k + 1));

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <flann/flann.hpp>
 #include <map>
@@ -25,9 +26,9 @@ ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const Mod
   const float radius2 = float(o.bandwidth * o.bandwidth);
 
   // Seeds: centroids of the most populated bins.
-  std::map<std::vector<std::int64_t>, std::pair<Index, Vec>> bins;
+  std::map<std::array<std::int64_t, 13>, std::pair<Index, Vec>> bins;
   for (Index i = 0; i < n; ++i) {
-    std::vector<std::int64_t> key(13);
+    std::array<std::int64_t, 13> key;
     for (int d = 0; d < 13; ++d) key[size_t(d)] = std::int64_t(std::floor(votes.embedding(d, i) / o.bandwidth));
     auto& bin = bins[key];
     if (bin.first == 0) bin.second.setZero();

@@ -37,7 +37,7 @@ struct Candidates {
   VectorXi64 source;  // cloud candidates: index in the input
 };
 
-Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed, double& area) {
+Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
   const auto& P = mesh.positions();
   const auto& F = mesh.faces();
   const Index nf = F.cols();
@@ -51,7 +51,6 @@ Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed, do
     total += a;
     cumulative[size_t(f)] = total;
   }
-  area = total;
   if (!(total > 0)) throw InputError("mesh has zero surface area; nothing to sample");
   Candidates c;
   c.positions.resize(3, m);
@@ -122,8 +121,7 @@ double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
 
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed) {
   if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
-  double area = 0;
-  Candidates c = mesh_candidates(mesh, n, seed, area);
+  Candidates c = mesh_candidates(mesh, n, seed);
   PointSet out(std::move(c.positions));
   out.set_normals(std::move(c.normals));
   out.set_face_provenance(std::move(c.face), std::move(c.bary));
@@ -150,7 +148,7 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     if (!(result.area > 0)) throw InputError("mesh has zero surface area; nothing to sample");
     if (options.spacing > 0) n_target = count_for_spacing(result.area, options.spacing);
     const Index m = std::max<Index>(n_target + 1, Index(std::ceil(options.oversampling * double(n_target))));
-    cand = mesh_candidates(input, m, options.seed, result.area);
+    cand = mesh_candidates(input, m, options.seed);
   } else {
     input_tree.build(input.positions());
     result.area = cloud_area(input.positions(), input_tree);
