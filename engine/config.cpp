@@ -129,6 +129,20 @@ void read_field(const YAML::Node& n, const std::string& key, Field& field, Probl
             *p = v;
           else
             bad("a list of 3 finite numbers [x, y, z] or ~");
+        } else if constexpr (std::is_same_v<T, std::vector<Landmark>>) {
+          p->clear();
+          const auto point = [&](const YAML::Node& q, Eigen::Vector3d& v) {
+            bool ok = q.IsSequence() && q.size() == 3;
+            for (int i = 0; ok && i < 3; ++i) ok = scalar_as(q[i], v(i)) && std::isfinite(v(i));
+            return ok;
+          };
+          bool ok = n.IsSequence() || n.IsNull();
+          for (size_t i = 0; ok && n.IsSequence() && i < n.size(); ++i) {
+            Landmark l;
+            ok = n[i].IsSequence() && n[i].size() == 2 && point(n[i][0], l.exemplar) && point(n[i][1], l.source);
+            if (ok) p->push_back(l);
+          }
+          if (!ok) bad("a list of landmark pairs [[x, y, z], [x, y, z]] (exemplar point, source point)");
         }
       },
       field.ref);
@@ -145,6 +159,14 @@ std::string yaml_value(const FieldRef& ref) {
           s << std::setprecision(15) << *p;
         } else if constexpr (std::is_same_v<T, NormalOrientation>) {
           s << to_string(*p);
+        } else if constexpr (std::is_same_v<T, std::vector<Landmark>>) {
+          s << "[";
+          for (size_t i = 0; i < p->size(); ++i) {
+            const Landmark& l = (*p)[i];
+            s << (i ? ", " : "") << "[[" << l.exemplar(0) << ", " << l.exemplar(1) << ", " << l.exemplar(2) << "], ["
+              << l.source(0) << ", " << l.source(1) << ", " << l.source(2) << "]]";
+          }
+          s << "]";
         } else if constexpr (std::is_same_v<T, std::optional<Eigen::Vector3d>>) {
           if (!*p)
             s << "~";

@@ -10,12 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "nodes/align/align.h"
+#include "nodes/correspond/correspond.h"
 #include "nodes/features/estimate_features.h"
 #include "nodes/io/read_point_set.h"
 #include "nodes/label/label.h"
 #include "nodes/modes/modes.h"
 #include "nodes/sample/sample.h"
+#include "nodes/scan/virtual_scan.h"
 #include "nodes/support/support.h"
+#include "nodes/synthesize/synthesize.h"
 #include "nodes/vote/vote.h"
 
 namespace scanfill {
@@ -26,6 +30,19 @@ struct InputSpec {
   std::string text;            // as written in the config
   std::filesystem::path path;  // resolved against the config file's folder (empty for procedural inputs)
   std::string procedural;      // shape name for "procedural:NAME"
+};
+
+// Replaces the scan input (completion) by a single-view virtual range scan of it: the paper's synthetic scanner, so
+// that a complete model (or a procedural shape) can be completed and scored against itself.
+struct VirtualScanConfig {
+  std::optional<Eigen::Vector3d> eye;     // camera position; ~ = no virtual scan
+  std::optional<Eigen::Vector3d> target;  // looked-at point; ~ = the input's bounding-box centre
+  std::optional<Eigen::Vector3d> up;      // image up; ~ = +z (or +y when looking along z)
+  int width = 640;
+  int height = 480;
+  double fov_deg = 45.0;
+  double noise = 0.0;
+  std::uint64_t seed = 1;
 };
 
 struct RunConfig {
@@ -40,6 +57,11 @@ struct RunConfig {
   ModesOptions modes;
   SupportOptions support;  // support.allow_scale follows vote.allow_scale
   LabelOptions label;
+  CorrespondOptions correspond;
+  double cover_distance = 2.0;  // completion: template samples within this many alpha of the registered scan are S
+  SynthesisOptions synthesize;
+  AlignOptions align;
+  VirtualScanConfig virtual_scan;
   std::filesystem::path config_path;  // the file it was read from
 };
 

@@ -40,6 +40,10 @@ std::vector<Section> option_sections(RunConfig& c) {
   ModesOptions& m = c.modes;
   SupportOptions& su = c.support;
   LabelOptions& l = c.label;
+  CorrespondOptions& co = c.correspond;
+  SynthesisOptions& sy = c.synthesize;
+  AlignOptions& al = c.align;
+  VirtualScanConfig& vs = c.virtual_scan;
   const auto any = [] { return std::optional<std::string>(); };
   const auto positive = [](const double* p) {
     return [p]() -> std::optional<std::string> {
@@ -181,6 +185,79 @@ std::vector<Section> option_sections(RunConfig& c) {
          range(&l.cleanup_majority, 0.5, 1.0, true, "a number in (0.5, 1]")},
         {"max_cycles", &l.max_cycles, "alpha-expansion sweeps; >= 1",
          range(&l.max_cycles, 1, 10000, false, "an integer >= 1")}}},
+      {"correspond",
+       "dense exemplar <-> source map (paper section 4): rigid ICP, then embedded deformation (Ceres) alternating "
+       "with a min-cost-flow assignment (LEMON)",
+       {{"rigid", &co.rigid, "rigid pre-alignment by ICP (inputs must be roughly aligned)", any},
+        {"rigid_iterations", &co.rigid_iterations, "ICP steps; [1, 500]",
+         range(&co.rigid_iterations, 1, 500, false, "an integer in [1, 500]")},
+        {"rigid_trim", &co.rigid_trim, "ICP ignores pairs farther than this times the median distance; >= 1",
+         range(&co.rigid_trim, 1.0, inf, false, "a number >= 1")},
+        {"outer_iterations", &co.outer_iterations,
+         "assignment / deformation alternations, stiffness halved each time (0 = rigid only); [0, 20]",
+         range(&co.outer_iterations, 0, 20, false, "an integer in [0, 20]")},
+        {"deformation_nodes", &co.deformation_nodes, "nodes of the embedded-deformation graph; [4, 5000]",
+         range(&co.deformation_nodes, 4, 5000, false, "an integer in [4, 5000]")},
+        {"node_neighbors", &co.node_neighbors, "edges per deformation node; [2, 16]",
+         range(&co.node_neighbors, 2, 16, false, "an integer in [2, 16]")},
+        {"stiffness", &co.stiffness, "initial weight of the rotation and smoothness terms; > 0",
+         positive(&co.stiffness)},
+        {"robust_scale", &co.robust_scale, "Huber scale of the data terms, in alpha; > 0", positive(&co.robust_scale)},
+        {"candidates", &co.candidates, "nearest source samples each exemplar sample may match; [1, 64]",
+         range(&co.candidates, 1, 64, false, "an integer in [1, 64]")},
+        {"normal_weight", &co.normal_weight, "eq. 1 weight of (1 - n.n') against squared distance in alpha; >= 0",
+         non_negative(&co.normal_weight)},
+        {"escape_distance", &co.escape_distance,
+         "cost of leaving an exemplar sample unmatched, as a distance in alpha; > 0", positive(&co.escape_distance)},
+        {"many_to_one", &co.many_to_one, "exemplar samples one source sample may take; [1, 64]",
+         range(&co.many_to_one, 1, 64, false, "an integer in [1, 64]")},
+        {"landmark_weight", &co.landmark_weight, "weight of a landmark against one data term; > 0",
+         positive(&co.landmark_weight)},
+        {"landmarks", &co.landmarks,
+         "user landmarks: a list of [[x, y, z] on the scan or exemplar, [x, y, z] on the template or source]", any},
+        {"min_overlap", &co.min_overlap, "share of exemplar samples that must lie near the source after ICP; [0, 1]",
+         range(&co.min_overlap, 0.0, 1.0, false, "a number in [0, 1]")},
+        {"max_scale_ratio", &co.max_scale_ratio, "bounding-box diagonals may differ by at most this factor; > 1",
+         range(&co.max_scale_ratio, 1.0, inf, true, "a number > 1")},
+        {"cover_distance", &c.cover_distance,
+         "completion: template samples within this many alpha of the registered scan form the source; > 0",
+         positive(&c.cover_distance)}}},
+      {"synthesize",
+       "A* = M A M^-1: the exemplar carried by each region's transform",
+       {{"reach", &sy.reach, "a mapped source sample belongs to a region within this many alpha; > 0",
+         positive(&sy.reach)},
+        {"ring_k", &sy.ring_k, "kNN graph defining each region's overlap ring; [0, 32]",
+         range(&sy.ring_k, 0, 32, false, "an integer in [0, 32]")},
+        {"gap_distance", &sy.gap_distance,
+         "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
+         positive(&sy.gap_distance)}}},
+      {"align",
+       "seam removal, paper eq. 10 (Ceres)",
+       {{"neighbors", &al.neighbors, "kNN graph of the synthesised samples; [2, 32]",
+         range(&al.neighbors, 2, 32, false, "an integer in [2, 32]")},
+        {"pair_distance", &al.pair_distance, "seam pairs closer than this, in alpha; > 0", positive(&al.pair_distance)},
+        {"gap_weight", &al.gap_weight, "weight of the normal gap across patches; >= 0", non_negative(&al.gap_weight)},
+        {"keep_weight", &al.keep_weight, "weight keeping each patch's shape; >= 0", non_negative(&al.keep_weight)},
+        {"pull", &al.pull, "v of eq. 10, the pull to the start; > 0", positive(&al.pull)},
+        {"thin_distance", &al.thin_distance,
+         "overlap-ring samples this close (alpha) to another patch are dropped; >= 0 (0 = keep)",
+         non_negative(&al.thin_distance)}}},
+      {"virtual_scan",
+       "completion: replace the scan input by a single-view virtual range scan of it (a mesh)",
+       {{"eye", &vs.eye, "camera position [x, y, z]; ~ = no virtual scan", any},
+        {"target", &vs.target, "looked-at point [x, y, z]; ~ = the centre of the input's bounding box", any},
+        {"up", &vs.up, "image up [x, y, z]; ~ = +z", any},
+        {"width", &vs.width, "image columns; [1, 16384]",
+         range(&vs.width, 1, 16384, false, "an integer in [1, 16384]")},
+        {"height", &vs.height, "image rows; [1, 16384]",
+         range(&vs.height, 1, 16384, false, "an integer in [1, 16384]")},
+        {"fov_deg", &vs.fov_deg, "vertical field of view; (0, 180)",
+         [p = &vs.fov_deg]() -> std::optional<std::string> {
+           if (*p > 0 && *p < 180) return std::nullopt;
+           return "expected a number in (0, 180)";
+         }},
+        {"noise", &vs.noise, "Gaussian noise along the ray, model units; >= 0", non_negative(&vs.noise)},
+        {"seed", &vs.seed, "seed of the noise", any}}},
   };
 }
 

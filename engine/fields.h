@@ -12,8 +12,8 @@
 
 namespace scanfill {
 
-using FieldRef =
-    std::variant<double*, int*, Index*, std::uint64_t*, bool*, NormalOrientation*, std::optional<Eigen::Vector3d>*>;
+using FieldRef = std::variant<double*, int*, Index*, std::uint64_t*, bool*, NormalOrientation*,
+                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*>;
 
 struct Field {
   std::string key;

@@ -279,12 +279,7 @@ int main(int argc, char** argv) {
     spdlog::info("{} run of {} on {} threads", config.mode, config_path,
                  tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     const RunOutcome outcome = run_pipeline(config);
-    if (config.mode == "analogy")
-      std::cout << "scanfill: analogy of " << config.inputs.size() << " inputs: load, sample, features, vote, modes, "
-                << "support and label done; analogy.ply holds the labelled target.\n";
-    else
-      std::cout << "scanfill: ran load, sample and features on " << config.inputs.size() << " inputs; mode '"
-                << config.mode << "' needs correspondence and synthesis, which are not implemented yet.\n";
+    std::cout << outcome.summary;
     for (const auto& out : outcome.outputs) std::cout << "  wrote " << out.string() << "\n";
     std::cout << "  peak memory " << int(peak_rss_mb()) << " MiB" << std::endl;
     return 0;

@@ -23,6 +23,7 @@ struct RunOutcome {
   std::vector<std::filesystem::path> outputs;  // files written, report.json last
   std::vector<NodeTiming> nodes;
   std::vector<std::string> warnings;
+  std::string summary;  // what was made and where, for the user (several lines)
 };
 
 // Runs the graph for config.mode. Throws Error (with the failing node's name) on failure.

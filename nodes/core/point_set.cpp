@@ -65,6 +65,32 @@ void PointSet::check() const {
     throw InvariantError("point set face index out of range [0, " + std::to_string(n) + ")");
 }
 
+namespace {
+template <class M>
+M take_columns(const M& m, const std::vector<std::int32_t>& indices) {
+  M out(m.rows(), Index(indices.size()));
+  for (size_t i = 0; i < indices.size(); ++i) out.col(Index(i)) = m.col(indices[i]);
+  return out;
+}
+template <class V>
+V take_entries(const V& v, const std::vector<std::int32_t>& indices) {
+  V out(Index(indices.size()));
+  for (size_t i = 0; i < indices.size(); ++i) out(Index(i)) = v(indices[i]);
+  return out;
+}
+}  // namespace
+
+PointSet subset(const PointSet& points, const std::vector<std::int32_t>& indices) {
+  PointSet out(take_columns(points.positions(), indices));
+  if (points.has_normals()) out.set_normals(take_columns(points.normals(), indices));
+  if (points.has_curvatures()) out.set_curvatures(take_columns(points.curvatures(), indices));
+  if (points.has_directions()) out.set_directions(take_columns(points.directions(), indices));
+  if (points.has_face_provenance())
+    out.set_face_provenance(take_entries(points.source_face(), indices), take_columns(points.barycentrics(), indices));
+  if (points.has_source_index()) out.set_source_index(take_entries(points.source_index(), indices));
+  return out;
+}
+
 BoundingBox bounding_box(const Eigen::Matrix3Xd& positions) {
   if (positions.cols() == 0) throw InvariantError("bounding box of an empty point set");
   return {positions.rowwise().minCoeff(), positions.rowwise().maxCoeff()};

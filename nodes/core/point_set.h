@@ -95,6 +95,10 @@ struct BoundingBox {
 };
 BoundingBox bounding_box(const Eigen::Matrix3Xd& positions);
 
+// The points `indices` of `points` with every per-point attribute (faces and viewpoint are dropped: a subset of a
+// mesh's vertices is a cloud).
+PointSet subset(const PointSet& points, const std::vector<std::int32_t>& indices);
+
 // Total area of a triangle mesh.
 double surface_area(const Eigen::Matrix3Xd& positions, const Matrix3Xi& faces);
 

@@ -16,6 +16,14 @@ struct Similarity {
 
   Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
   Eigen::Vector3d apply_normal(const Eigen::Vector3d& n) const { return rotation * n; }
+  // x -> R^T (x - t) / s
+  Similarity inverse() const {
+    return Similarity{rotation.transpose(), -(rotation.transpose() * translation) / scale, 1.0 / scale};
+  }
+  // (this o b)(x) = this(b(x))
+  Similarity compose(const Similarity& b) const {
+    return Similarity{rotation * b.rotation, scale * (rotation * b.translation) + translation, scale * b.scale};
+  }
 };
 
 // The rotation nearest to M in the Frobenius norm (SVD projection, det +1).

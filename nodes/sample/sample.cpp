@@ -153,6 +153,12 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     input_tree.build(input.positions());
     result.area = cloud_area(input.positions(), input_tree);
     if (options.spacing > 0) n_target = count_for_spacing(result.area, options.spacing);
+    if (n_target > input.size() && options.spacing > 0 && options.all_points_when_sparse) {
+      result.warnings.push_back("the cloud's " + std::to_string(input.size()) +
+                                " points are sparser than the spacing " + std::to_string(options.spacing) +
+                                " asks for (" + std::to_string(n_target) + " samples): every point is used");
+      n_target = input.size();
+    }
     if (n_target > input.size()) {
       if (options.spacing > 0)
         throw InputError("sample spacing " + std::to_string(options.spacing) + " asks for " + std::to_string(n_target) +

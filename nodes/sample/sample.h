@@ -27,6 +27,7 @@ struct SampleOptions {
   double normal_angle_deg = 60.0;  // neighbours with normals further apart than this do not repel; (0, 180]
   double weight_exponent = 8.0;    // exponent of (1 - d/d_max) in the elimination weight; (0, 64]
   std::uint64_t seed = 1;          // seed of the mesh candidate generator
+  bool all_points_when_sparse = false;  // a cloud sparser than `spacing` gives all its points (else InputError)
 };
 
 struct SampleResult {

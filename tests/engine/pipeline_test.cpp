@@ -27,20 +27,30 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
   const RunOutcome outcome = run_pipeline(small_config(dir / "out"));
-  ASSERT_EQ(outcome.outputs.size(), 3u);
-  const LoadResult scan = read_point_set(dir / "out" / "samples_scan.ply");
-  EXPECT_EQ(scan.points.size(), 3000);
-  EXPECT_TRUE(scan.points.has_normals());
+  ASSERT_EQ(outcome.outputs.size(), 5u);  // samples_scan, samples_template, output, analogy, report
+  const LoadResult templ = read_point_set(dir / "out" / "samples_template.ply");
+  EXPECT_EQ(templ.points.size(), 3000);
+  EXPECT_TRUE(templ.points.has_normals());
   const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
   EXPECT_EQ(report["mode"], "completion");
-  EXPECT_EQ(report["inputs"]["scan"]["samples"], 3000);
+  EXPECT_EQ(report["inputs"]["template"]["samples"], 3000);
+  // The scan is sampled at the template's spacing (one alpha for all inputs).
+  EXPECT_NEAR(report["inputs"]["scan"]["spacing"].get<double>(), report["inputs"]["template"]["spacing"].get<double>(),
+              0.1 * report["inputs"]["template"]["spacing"].get<double>());
   EXPECT_GT(report["inputs"]["template"]["points"].get<int>(), 0);
   EXPECT_GT(report["peak_rss_mb"].get<double>(), 0);
   std::set<std::string> names;
   for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
   for (const char* n :
-       {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template", "write"})
+       {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template",
+        "correspond", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
     EXPECT_TRUE(names.count(n)) << n;
+  // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label.
+  const std::string ply = test::read_bytes(dir / "out" / "output.ply");
+  EXPECT_NE(ply.find("property float nz\nproperty uchar origin\nproperty int label\n"), std::string::npos);
+  const LoadResult out = read_point_set(dir / "out" / "output.ply");
+  EXPECT_EQ(out.points.size(), report["output"]["points"].get<Index>());
+  EXPECT_GT(report["output"]["exemplar_points"].get<Index>(), 0);
 }
 
 TEST(Pipeline, AnalogyModeWritesTheLabelledTargetAndTheTransforms) {
@@ -77,7 +87,6 @@ TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
   test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");  // loads, too few to sample
   RunConfig c = small_config(dir / "out");
   c.inputs[0] = {"scan", "tiny.xyz", dir / "tiny.xyz", ""};
-  c.sample.count = 4;
   try {
     run_pipeline(c);
     FAIL();

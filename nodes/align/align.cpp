@@ -1,0 +1,157 @@
+#include "nodes/align/align.h"
+
+#include <ceres/ceres.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <array>
+#include <cmath>
+
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+// r = w (c + a x + b y): a seam gap or a shape-keeping difference of two offsets.
+class LinearPair final : public ceres::SizedCostFunction<1, 1, 1> {
+ public:
+  LinearPair(double w, double c, double a, double b) : w_(w), c_(c), a_(a), b_(b) {}
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    r[0] = w_ * (c_ + a_ * x[0][0] + b_ * x[1][0]);
+    if (J) {
+      if (J[0]) J[0][0] = w_ * a_;
+      if (J[1]) J[1][0] = w_ * b_;
+    }
+    return true;
+  }
+
+ private:
+  double w_, c_, a_, b_;
+};
+
+// r = w x: the pull towards the start.
+class Pull final : public ceres::SizedCostFunction<1, 1> {
+ public:
+  explicit Pull(double w) : w_(w) {}
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    r[0] = w_ * x[0][0];
+    if (J && J[0]) J[0][0] = w_;
+    return true;
+  }
+
+ private:
+  double w_;
+};
+
+struct Seam {
+  std::int32_t i, j;
+  double c, a, b;  // gap = c + a d_i + b d_j
+};
+
+}  // namespace
+
+AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
+  const Index n = s.points.size();
+  AlignResult r;
+  r.offset.assign(size_t(n), 0.0);
+  r.keep.assign(size_t(n), 1);
+  if (n < 2) return r;
+  const Eigen::Matrix3Xd& P = s.points.positions();
+  const Eigen::Matrix3Xd& N = s.points.normals();
+  KdTree tree;
+  tree.build(P);
+  const int k = int(std::min<Index>(o.neighbors, n - 1));
+  std::vector<std::int32_t> graph(static_cast<size_t>(n) * size_t(k));
+  std::vector<double> dist2(graph.size());
+  tbb::parallel_for(Index(0), n, [&](Index i) {
+    std::array<std::int32_t, 33> idx;
+    std::array<double, 33> d2;
+    const int got = tree.knn(P.col(i), k + 1, idx.data(), d2.data());
+    int w = 0;
+    for (int a = 0; a < got && w < k; ++a)
+      if (idx[size_t(a)] != i) {
+        graph[size_t(i) * size_t(k) + size_t(w)] = idx[size_t(a)];
+        dist2[size_t(i) * size_t(k) + size_t(w++)] = d2[size_t(a)];
+      }
+    for (; w < k; ++w) graph[size_t(i) * size_t(k) + size_t(w)] = -1;
+  });
+
+  const auto fixed = [&](Index i) { return s.origin[size_t(i)] == Origin::kExemplar; };
+  const double pair2 = std::pow(o.pair_distance * spacing, 2), cos_limit = 0.5;
+  std::vector<Seam> seams;
+  ceres::Problem::Options po;
+  ceres::Problem problem(po);
+  for (Index i = 0; i < n; ++i) problem.AddParameterBlock(&r.offset[size_t(i)], 1);
+  const double inv = 1.0 / spacing;
+  for (Index i = 0; i < n; ++i)
+    for (int a = 0; a < k; ++a) {
+      const auto j = graph[size_t(i) * size_t(k) + size_t(a)];
+      if (j < 0) continue;  // an edge found from both ends counts twice: harmless in a least-squares sum
+      if (fixed(i) && fixed(j)) continue;
+      const double ni_nj = N.col(i).dot(N.col(j));
+      if (ni_nj < cos_limit) continue;
+      if (s.patch[size_t(i)] == s.patch[size_t(j)]) {
+        if (o.keep_weight > 0)
+          problem.AddResidualBlock(new LinearPair(std::sqrt(o.keep_weight) * inv, 0, 1, -1), nullptr,
+                                   &r.offset[size_t(i)], &r.offset[size_t(j)]);
+        continue;
+      }
+      if (dist2[size_t(i) * size_t(k) + size_t(a)] > pair2) continue;
+      const Eigen::Vector3d m = (N.col(i) + N.col(j)).normalized();
+      const Seam seam{std::int32_t(i), j, (P.col(i) - P.col(j)).dot(m), N.col(i).dot(m), -N.col(j).dot(m)};
+      seams.push_back(seam);
+      if (o.gap_weight > 0)
+        problem.AddResidualBlock(new LinearPair(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b), nullptr,
+                                 &r.offset[size_t(i)], &r.offset[size_t(j)]);
+    }
+  for (Index i = 0; i < n; ++i) {
+    if (fixed(i)) {
+      problem.SetParameterBlockConstant(&r.offset[size_t(i)]);
+    } else {
+      problem.AddResidualBlock(new Pull(std::sqrt(o.pull) * inv), nullptr, &r.offset[size_t(i)]);
+    }
+  }
+  const auto rms_gap = [&] {
+    double sum = 0;
+    for (const auto& q : seams) sum += std::pow(q.c + q.a * r.offset[size_t(q.i)] + q.b * r.offset[size_t(q.j)], 2);
+    return seams.empty() ? 0.0 : std::sqrt(sum / double(seams.size()));
+  };
+  r.seam_pairs = Index(seams.size());
+  r.gap_before = rms_gap();
+  if (!seams.empty()) {
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.max_num_iterations = 5;
+    so.num_threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+  }
+  r.gap_after = rms_gap();
+
+  // Thin the overlaps: a ring sample next to another patch's region sample goes.
+  if (o.thin_distance > 0) {
+    const double thin2 = std::pow(o.thin_distance * spacing, 2);
+    Eigen::Matrix3Xd moved(3, n);
+    for (Index i = 0; i < n; ++i) moved.col(i) = P.col(i) + r.offset[size_t(i)] * N.col(i);
+    KdTree mt;
+    mt.build(moved);
+    tbb::parallel_for(Index(0), n, [&](Index i) {
+      if (!s.ring[size_t(i)]) return;
+      std::array<std::int32_t, 17> idx;
+      std::array<double, 17> d2;
+      const int got = mt.knn(moved.col(i), 16, idx.data(), d2.data());
+      for (int a = 0; a < got; ++a) {
+        const auto j = idx[size_t(a)];
+        if (d2[size_t(a)] > thin2) break;
+        if (s.patch[size_t(j)] != s.patch[size_t(i)] && !s.ring[size_t(j)] && N.col(i).dot(N.col(j)) >= cos_limit) {
+          r.keep[size_t(i)] = 0;
+          return;
+        }
+      }
+    });
+  }
+  return r;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,40 @@
+// align node: removes the seams between patches (paper eq. 10, DESIGN section 4).
+//
+// Every synthesised or copied sample i may move along its normal by an offset d_i; exemplar samples of a completion
+// (the scan itself) stay fixed. Eq. 10 as solved here, all distances in alpha:
+//   sum over seam pairs (i, j) of different patches, closer than `pair_distance` alpha with normals within 60 degrees:
+//       gap_weight ((p_i + d_i n_i - p_j - d_j n_j) . m_ij)^2,   m_ij the mean normal;
+//   sum over neighbours (i, j) of the same patch: keep_weight (d_i - d_j)^2   (each patch keeps its shape);
+//   sum over i: pull (d_i)^2                                                  (v = 0.01 of the paper: stay near the
+//   start).
+// The problem is linear: Ceres (sparse normal Cholesky) converges in one step. Afterwards, an extension-ring sample
+// that lies within `thin_distance` alpha of another patch's non-ring sample is dropped, so overlaps do not double the
+// density.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nodes/synthesize/synthesize.h"
+
+namespace scanfill {
+
+struct AlignOptions {
+  int neighbors = 8;            // kNN graph of the synthesis; [2, 32]
+  double pair_distance = 2.0;   // seam pairs closer than this, in alpha; > 0
+  double gap_weight = 1.0;      // >= 0
+  double keep_weight = 1.0;     // >= 0
+  double pull = 0.01;           // v of eq. 10; > 0
+  double thin_distance = 0.75;  // alpha; >= 0 (0 = keep every ring sample)
+};
+
+struct AlignResult {
+  std::vector<double> offset;      // per synthesis point: displacement along its normal, model units
+  std::vector<std::uint8_t> keep;  // per synthesis point: 0 when thinned out
+  Index seam_pairs = 0;
+  double gap_before = 0, gap_after = 0;  // RMS normal gap over the seam pairs, model units
+};
+
+AlignResult align(const Synthesis& synthesis, double spacing, const AlignOptions& options);
+
+}  // namespace scanfill

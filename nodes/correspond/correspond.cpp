@@ -1,0 +1,461 @@
+#include "nodes/correspond/correspond.h"
+
+#include <ceres/ceres.h>
+#include <lemon/network_simplex.h>
+#include <lemon/smart_graph.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+#include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
+#include "nodes/sample/sample.h"
+
+namespace scanfill {
+namespace {
+
+constexpr int kNodesPerPoint = 4;  // deformation nodes influencing a point (Sumner et al. use k + 1 = 5 neighbours)
+
+// Nearest source sample of each point (index, squared distance).
+void nearest(const KdTree& tree, const Eigen::Matrix3Xd& points, std::vector<std::int32_t>& index,
+             std::vector<double>& d2) {
+  index.resize(size_t(points.cols()));
+  d2.resize(size_t(points.cols()));
+  tbb::parallel_for(Index(0), points.cols(),
+                    [&](Index i) { tree.knn(points.col(i), 1, &index[size_t(i)], &d2[size_t(i)]); });
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Trimmed ICP of the exemplar samples onto the source: point-to-point for the first third of the steps (robust from
+// a rough pose), point-to-plane after (fast convergence on smooth surfaces). Rigid: the inputs share a scale.
+Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const CorrespondOptions& o,
+                     double& rms) {
+  Similarity q;
+  const Eigen::Matrix3Xd& from = exemplar.positions();
+  const bool oriented = exemplar.has_normals() && source.has_normals();
+  std::vector<std::int32_t> idx;
+  std::vector<double> d2;
+  Eigen::Matrix3Xd moved(3, from.cols());
+  for (int it = 0; it < o.rigid_iterations; ++it) {
+    for (Index i = 0; i < from.cols(); ++i) moved.col(i) = q.apply(from.col(i));
+    nearest(tree, moved, idx, d2);
+    const double limit = o.rigid_trim * o.rigid_trim * std::max(median(d2), 1e-300);
+    std::vector<Index> keep;
+    keep.reserve(idx.size());
+    for (size_t i = 0; i < idx.size(); ++i) {
+      if (d2[i] > limit) continue;
+      if (oriented && q.apply_normal(exemplar.normals().col(Index(i))).dot(source.normals().col(idx[i])) < 0) continue;
+      keep.push_back(Index(i));
+    }
+    if (keep.size() < 7) break;
+    Eigen::Matrix3Xd a(3, Index(keep.size())), b(3, Index(keep.size())), n(3, Index(keep.size()));
+    double sum = 0;
+    for (size_t j = 0; j < keep.size(); ++j) {
+      const Index i = keep[j];
+      a.col(Index(j)) = moved.col(i);
+      b.col(Index(j)) = source.positions().col(idx[size_t(i)]);
+      n.col(Index(j)) = source.normals().col(idx[size_t(i)]);
+      sum += d2[size_t(i)];
+    }
+    rms = std::sqrt(sum / double(keep.size()));
+    Similarity next;
+    if (it < o.rigid_iterations / 3 || !source.has_normals()) {
+      const Similarity d = fit_similarity(a, b, false);
+      next.rotation = nearest_rotation(d.rotation * q.rotation);
+      next.translation = d.rotation * q.translation + d.translation;
+    } else {
+      next = point_to_plane_step(q, a, b, n, false);
+    }
+    const double change = rotation_angle(next.rotation * q.rotation.transpose()) +
+                          (next.translation - q.translation).norm() / std::max(rms, 1e-300);
+    q = next;
+    if (change < 1e-6) break;
+  }
+  return q;
+}
+
+// Min-cost flow assignment of exemplar samples to source samples (partial, many-to-one).
+Index assign(const PointSet& exemplar, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
+             const PointSet& source, const KdTree& tree, double spacing, const CorrespondOptions& o,
+             std::vector<std::int32_t>& match) {
+  const Index ne = positions.cols(), ns = source.size();
+  const int k = int(std::min<Index>(o.candidates, ns));
+  const double scale = 1000.0;  // integer cost units per (alpha^2)
+  const auto escape = std::int64_t(std::llround(scale * o.escape_distance * o.escape_distance));
+  std::vector<std::int32_t> cand(size_t(ne) * size_t(k), -1);
+  std::vector<std::int64_t> cost(size_t(ne) * size_t(k), 0);
+  const bool with_normals = exemplar.has_normals() && source.has_normals();
+  tbb::parallel_for(Index(0), ne, [&](Index e) {
+    std::array<std::int32_t, 64> idx;
+    std::array<double, 64> d2;
+    const int got = tree.knn(positions.col(e), k, idx.data(), d2.data());
+    for (int a = 0; a < got; ++a) {
+      double c = d2[size_t(a)] / (spacing * spacing);
+      if (with_normals) c += o.normal_weight * (1 - normals.col(e).dot(source.normals().col(idx[size_t(a)])));
+      const auto ic = std::int64_t(std::llround(scale * c));
+      if (ic >= escape) continue;  // never better than escaping
+      cand[size_t(e) * size_t(k) + size_t(a)] = idx[size_t(a)];
+      cost[size_t(e) * size_t(k) + size_t(a)] = ic;
+    }
+  });
+
+  using Graph = lemon::SmartDigraph;
+  Graph g;
+  g.reserveNode(int(ne + ns + 1));
+  g.reserveArc(int(ne * (k + 1) + ns));
+  std::vector<Graph::Node> en(static_cast<size_t>(ne)), sn(static_cast<size_t>(ns));
+  for (auto& n : en) n = g.addNode();
+  for (auto& n : sn) n = g.addNode();
+  const Graph::Node sink = g.addNode();
+  Graph::ArcMap<std::int64_t> upper(g), arc_cost(g);
+  Graph::NodeMap<std::int64_t> supply(g, 0);
+  std::vector<Graph::Arc> arcs(cand.size(), lemon::INVALID);
+  for (Index e = 0; e < ne; ++e) {
+    supply[en[size_t(e)]] = 1;
+    for (int a = 0; a < k; ++a) {
+      const size_t slot = size_t(e) * size_t(k) + size_t(a);
+      if (cand[slot] < 0) continue;
+      arcs[slot] = g.addArc(en[size_t(e)], sn[size_t(cand[slot])]);
+      upper[arcs[slot]] = 1;
+      arc_cost[arcs[slot]] = cost[slot];
+    }
+    const Graph::Arc out = g.addArc(en[size_t(e)], sink);
+    upper[out] = 1;
+    arc_cost[out] = escape;
+  }
+  for (Index s = 0; s < ns; ++s) {
+    const Graph::Arc a = g.addArc(sn[size_t(s)], sink);
+    upper[a] = o.many_to_one;
+    arc_cost[a] = 0;
+  }
+  supply[sink] = -ne;
+  lemon::NetworkSimplex<Graph, std::int64_t, std::int64_t> solver(g);
+  solver.upperMap(upper).costMap(arc_cost).supplyMap(supply);
+  if (solver.run() != decltype(solver)::OPTIMAL) throw InvariantError("correspond: the assignment has no solution");
+  match.assign(size_t(ne), -1);
+  Index matched = 0;
+  for (Index e = 0; e < ne; ++e)
+    for (int a = 0; a < k; ++a) {
+      const size_t slot = size_t(e) * size_t(k) + size_t(a);
+      if (cand[slot] >= 0 && solver.flow(arcs[slot]) > 0) {
+        match[size_t(e)] = cand[slot];
+        ++matched;
+        break;
+      }
+    }
+  return matched;
+}
+
+// Embedded deformation: node j has an affine map A_j (row-major 3x3) and a translation t_j, packed as 12 doubles.
+struct Binding {
+  std::array<std::int32_t, kNodesPerPoint> node;
+  std::array<double, kNodesPerPoint> weight;
+};
+
+template <class T>
+Eigen::Matrix<T, 3, 1> deform_by(const T* x, const Eigen::Vector3d& p, const Eigen::Vector3d& g) {
+  const Eigen::Matrix<T, 3, 1> d = (p - g).cast<T>();
+  Eigen::Matrix<T, 3, 1> out;
+  for (int r = 0; r < 3; ++r) out(r) = x[3 * r] * d(0) + x[3 * r + 1] * d(1) + x[3 * r + 2] * d(2) + T(g(r)) + x[9 + r];
+  return out;
+}
+
+// Data term: 0.5 of point-to-point plus point-to-plane, in alpha units, times sqrt(weight).
+struct DataCost {
+  Eigen::Vector3d p, q, n;
+  std::array<Eigen::Vector3d, kNodesPerPoint> g;
+  std::array<double, kNodesPerPoint> w;
+  double inv_alpha, sqrt_weight, plane;
+  template <class T>
+  bool operator()(const T* x0, const T* x1, const T* x2, const T* x3, T* r) const {
+    const T* x[kNodesPerPoint] = {x0, x1, x2, x3};
+    Eigen::Matrix<T, 3, 1> v = Eigen::Matrix<T, 3, 1>::Zero();
+    for (int i = 0; i < kNodesPerPoint; ++i) v += T(w[size_t(i)]) * deform_by(x[i], p, g[size_t(i)]);
+    const Eigen::Matrix<T, 3, 1> d = (v - q.cast<T>()) * T(inv_alpha * sqrt_weight);
+    for (int c = 0; c < 3; ++c) r[c] = T(0.5) * d(c);
+    r[3] = T(plane) * (d(0) * T(n(0)) + d(1) * T(n(1)) + d(2) * T(n(2)));
+    return true;
+  }
+};
+
+// Rotation term: the columns of A orthonormal.
+struct RotationCost {
+  double sqrt_weight;
+  template <class T>
+  bool operator()(const T* x, T* r) const {
+    const Eigen::Matrix<T, 3, 1> c0(x[0], x[3], x[6]), c1(x[1], x[4], x[7]), c2(x[2], x[5], x[8]);
+    const T w(sqrt_weight);
+    r[0] = w * c0.dot(c1);
+    r[1] = w * c0.dot(c2);
+    r[2] = w * c1.dot(c2);
+    r[3] = w * (c0.dot(c0) - T(1));
+    r[4] = w * (c1.dot(c1) - T(1));
+    r[5] = w * (c2.dot(c2) - T(1));
+    return true;
+  }
+};
+
+// Smoothness term: node j's map predicts node k's new position.
+struct SmoothCost {
+  Eigen::Vector3d gj, gk;
+  double scale;  // sqrt(weight) / node spacing
+  template <class T>
+  bool operator()(const T* xj, const T* xk, T* r) const {
+    const Eigen::Matrix<T, 3, 1> d =
+        deform_by(xj, gk, gj) - (gk.cast<T>() + Eigen::Matrix<T, 3, 1>(xk[9], xk[10], xk[11]));
+    for (int c = 0; c < 3; ++c) r[c] = T(scale) * d(c);
+    return true;
+  }
+};
+
+class Deformation {
+ public:
+  Deformation(const Eigen::Matrix3Xd& points, double spacing, const CorrespondOptions& o) {
+    PointSet cloud(points);
+    SampleOptions so;
+    so.count = std::min<Index>(o.deformation_nodes, std::max<Index>(points.cols() / 4, kNodesPerPoint + 1));
+    so.oversampling = 2;
+    so.seed = 7;
+    const SampleResult nodes = sample(cloud, so);
+    nodes_ = nodes.samples.positions();
+    params_.assign(size_t(nodes_.cols()) * 12, 0.0);
+    for (Index j = 0; j < nodes_.cols(); ++j)
+      for (int r = 0; r < 3; ++r) params_[size_t(j) * 12 + size_t(4 * r)] = 1.0;  // A = I, t = 0
+    tree_.build(nodes_);
+    node_spacing_ = std::max(nodes.spacing, spacing);
+    const int kk = std::min<int>(o.node_neighbors + 1, int(nodes_.cols()));
+    for (Index j = 0; j < nodes_.cols(); ++j) {
+      std::array<std::int32_t, 17> idx;
+      std::array<double, 17> d2;
+      const int got = tree_.knn(nodes_.col(j), kk, idx.data(), d2.data());
+      for (int a = 1; a < got; ++a) edges_.emplace_back(std::int32_t(j), idx[size_t(a)]);
+    }
+  }
+
+  Index nodes() const { return nodes_.cols(); }
+
+  Binding bind(const Eigen::Vector3d& p) const {
+    std::array<std::int32_t, kNodesPerPoint + 1> idx;
+    std::array<double, kNodesPerPoint + 1> d2;
+    tree_.knn(p, kNodesPerPoint + 1, idx.data(), d2.data());
+    Binding b;
+    const double dmax = std::sqrt(d2[kNodesPerPoint]) + 1e-12;
+    double sum = 0;
+    for (int i = 0; i < kNodesPerPoint; ++i) {
+      b.node[size_t(i)] = idx[size_t(i)];
+      b.weight[size_t(i)] = std::pow(1 - std::sqrt(d2[size_t(i)]) / dmax, 2) + 1e-9;
+      sum += b.weight[size_t(i)];
+    }
+    for (auto& w : b.weight) w /= sum;
+    return b;
+  }
+
+  Eigen::Vector3d apply(const Binding& b, const Eigen::Vector3d& p) const {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (int i = 0; i < kNodesPerPoint; ++i) {
+      const Index j = b.node[size_t(i)];
+      v += b.weight[size_t(i)] * deform_by(&params_[size_t(j) * 12], p, nodes_.col(j));
+    }
+    return v;
+  }
+
+  // One solve: data pairs (point, binding, goal, goal normal), landmarks (weighted, point-to-point), stiffness.
+  void solve(const Eigen::Matrix3Xd& points, const std::vector<Binding>& bindings,
+             const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
+             const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
+             const CorrespondOptions& o) {
+    ceres::Problem::Options po;
+    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(po);
+    ceres::HuberLoss huber(o.robust_scale);
+    auto add_data = [&](const Eigen::Vector3d& p, const Binding& b, const Eigen::Vector3d& q, const Eigen::Vector3d& n,
+                        double weight, double plane, ceres::LossFunction* loss) {
+      auto* f = new DataCost{p, q, n, {}, b.weight, 1.0 / spacing, std::sqrt(weight), plane};
+      for (int i = 0; i < kNodesPerPoint; ++i) f->g[size_t(i)] = nodes_.col(b.node[size_t(i)]);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DataCost, 4, 12, 12, 12, 12>(f), loss,
+                               &params_[size_t(b.node[0]) * 12], &params_[size_t(b.node[1]) * 12],
+                               &params_[size_t(b.node[2]) * 12], &params_[size_t(b.node[3]) * 12]);
+    };
+    for (size_t e = 0; e < match.size(); ++e) {
+      if (match[e] < 0) continue;
+      const Eigen::Vector3d n =
+          source.has_normals() ? Eigen::Vector3d(source.normals().col(match[e])) : Eigen::Vector3d::Zero();
+      add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, 1.0, 1.0, &huber);
+    }
+    for (const auto& [p, q] : landmarks)
+      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight, 0.0, nullptr);
+    // Rigidity and smoothness weighted per data term, so stiffness means the same at any sample count.
+    const double per_node = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
+    for (Index j = 0; j < nodes_.cols(); ++j)
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<RotationCost, 6, 12>(new RotationCost{std::sqrt(stiffness * per_node)}),
+          nullptr, &params_[size_t(j) * 12]);
+    const double edge_weight = stiffness * per_node / double(std::max(1, o.node_neighbors));
+    for (const auto& [j, k] : edges_)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SmoothCost, 3, 12, 12>(new SmoothCost{
+                                   nodes_.col(j), nodes_.col(k), std::sqrt(edge_weight) / node_spacing_}),
+                               nullptr, &params_[size_t(j) * 12], &params_[size_t(k) * 12]);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.max_num_iterations = 10;
+    so.num_threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+  }
+
+ private:
+  Eigen::Matrix3Xd nodes_;
+  std::vector<double> params_;
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges_;
+  KdTree tree_;
+  double node_spacing_ = 1;
+};
+
+}  // namespace
+
+CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
+                            const CorrespondOptions& o, const ProgressFn& progress) {
+  CorrespondResult r;
+  if (exemplar.size() < o.min_samples)
+    throw InputError("the exemplar (scan) has " + std::to_string(exemplar.size()) + " samples; at least " +
+                     std::to_string(o.min_samples) + " are needed to register it");
+  if (source.size() < o.min_samples)
+    throw InputError("the source (template) has " + std::to_string(source.size()) + " samples; at least " +
+                     std::to_string(o.min_samples) + " are needed");
+  const double de = bounding_box(exemplar.positions()).diagonal(), ds = bounding_box(source.positions()).diagonal();
+  if (de > o.max_scale_ratio * ds || ds > o.max_scale_ratio * de)
+    throw InputError("the exemplar's bounding-box diagonal (" + std::to_string(de) + ") and the source's (" +
+                     std::to_string(ds) + ") differ by more than " + std::to_string(o.max_scale_ratio) +
+                     "x: inputs must share a scale (are the units the same?)");
+  KdTree tree;
+  tree.build(source.positions());
+
+  // Rigid registration, then the overlap check.
+  if (o.rigid) r.rigid = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  report(progress, 0.2);
+  r.registered.resize(3, exemplar.size());
+  Eigen::Matrix3Xd normals(3, exemplar.size());
+  for (Index i = 0; i < exemplar.size(); ++i) {
+    r.registered.col(i) = r.rigid.apply(exemplar.positions().col(i));
+    normals.col(i) = exemplar.has_normals() ? r.rigid.apply_normal(exemplar.normals().col(i)) : Eigen::Vector3d::Zero();
+  }
+  {
+    std::vector<std::int32_t> idx;
+    std::vector<double> d2;
+    nearest(tree, r.registered, idx, d2);
+    const double limit = std::pow(o.escape_distance * spacing, 2);
+    const auto close = std::count_if(d2.begin(), d2.end(), [&](double d) { return d <= limit; });
+    const double share = double(close) / double(d2.size());
+    if (share < o.min_overlap)
+      throw InputError("the exemplar (scan) and the source (template) do not overlap: after rigid registration only " +
+                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
+                       std::to_string(o.escape_distance) + " alpha of the template (at least " +
+                       std::to_string(int(std::round(100 * o.min_overlap))) +
+                       "% needed); inputs must be roughly aligned and at the same scale");
+  }
+
+  // Alternate assignment and embedded deformation, relaxing the stiffness.
+  r.deformed = r.registered;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> landmarks;
+  for (const auto& l : o.landmarks) landmarks.emplace_back(r.rigid.apply(l.exemplar), l.source);
+  if (o.outer_iterations > 0 && exemplar.size() >= 4 * (kNodesPerPoint + 1)) {
+    Deformation def(r.registered, spacing, o);
+    std::vector<Binding> bindings(size_t(exemplar.size()));
+    tbb::parallel_for(Index(0), exemplar.size(), [&](Index i) { bindings[size_t(i)] = def.bind(r.registered.col(i)); });
+    double stiffness = o.stiffness;
+    for (int it = 0; it < o.outer_iterations; ++it) {
+      std::vector<std::int32_t> match;
+      assign(exemplar, r.deformed, normals, source, tree, spacing, o, match);
+      def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o);
+      tbb::parallel_for(Index(0), exemplar.size(),
+                        [&](Index i) { r.deformed.col(i) = def.apply(bindings[size_t(i)], r.registered.col(i)); });
+      stiffness *= 0.5;
+      report(progress, 0.2 + 0.7 * double(it + 1) / o.outer_iterations);
+    }
+  }
+  r.matched = assign(exemplar, r.deformed, normals, source, tree, spacing, o, r.exemplar_match);
+  double sum = 0;
+  for (size_t e = 0; e < r.exemplar_match.size(); ++e)
+    if (r.exemplar_match[e] >= 0)
+      sum += (r.deformed.col(Index(e)) - source.positions().col(r.exemplar_match[e])).squaredNorm();
+  r.deformed_rms = r.matched > 0 ? std::sqrt(sum / double(r.matched)) : 0.0;
+  if (r.matched < exemplar.size() / 2)
+    r.warnings.push_back(std::to_string(exemplar.size() - r.matched) + " of " + std::to_string(exemplar.size()) +
+                         " exemplar samples found no source sample within " + std::to_string(o.escape_distance) +
+                         " alpha after registration");
+
+  r.exemplar_source = r.exemplar_match;
+  {
+    const double limit = std::pow(2 * o.escape_distance * spacing, 2);
+    tbb::parallel_for(Index(0), exemplar.size(), [&](Index e) {
+      if (r.exemplar_source[size_t(e)] >= 0) return;
+      std::int32_t s;
+      double d2;
+      tree.knn(r.deformed.col(e), 1, &s, &d2);
+      if (d2 <= limit) r.exemplar_source[size_t(e)] = s;
+    });
+  }
+
+  // M^-1: each source sample's exemplar sample; unmatched ones take their nearest matched neighbour's.
+  r.source_match.assign(size_t(source.size()), -1);
+  std::vector<double> best(size_t(source.size()), 1e300);
+  for (size_t e = 0; e < r.exemplar_match.size(); ++e) {
+    const auto s = r.exemplar_match[e];
+    if (s < 0) continue;
+    const double d = (r.deformed.col(Index(e)) - source.positions().col(s)).squaredNorm();
+    if (d < best[size_t(s)]) {
+      best[size_t(s)] = d;
+      r.source_match[size_t(s)] = std::int32_t(e);
+    }
+  }
+  std::vector<std::int32_t> matched_sources;
+  for (Index s = 0; s < source.size(); ++s)
+    if (r.source_match[size_t(s)] >= 0) matched_sources.push_back(std::int32_t(s));
+  if (matched_sources.empty()) throw InputError("no exemplar sample matched any source sample");
+  if (matched_sources.size() < size_t(source.size())) {
+    Eigen::Matrix3Xd mp(3, Index(matched_sources.size()));
+    for (size_t i = 0; i < matched_sources.size(); ++i) mp.col(Index(i)) = source.positions().col(matched_sources[i]);
+    KdTree mt;
+    mt.build(mp);
+    tbb::parallel_for(Index(0), source.size(), [&](Index s) {
+      if (r.source_match[size_t(s)] >= 0) return;
+      std::int32_t i;
+      double d2;
+      mt.knn(source.positions().col(s), 1, &i, &d2);
+      r.source_match[size_t(s)] = r.source_match[size_t(matched_sources[size_t(i)])];
+    });
+  }
+  report(progress, 1.0);
+  return r;
+}
+
+std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::Matrix3Xd& points, double distance) {
+  std::vector<std::int32_t> out;
+  if (points.cols() == 0) return out;
+  KdTree tree;
+  tree.build(points);
+  std::vector<std::uint8_t> hit(size_t(source.size()), 0);
+  tbb::parallel_for(Index(0), source.size(), [&](Index s) {
+    std::int32_t i;
+    double d2;
+    tree.knn(source.positions().col(s), 1, &i, &d2);
+    hit[size_t(s)] = d2 <= distance * distance;
+  });
+  for (Index s = 0; s < source.size(); ++s)
+    if (hit[size_t(s)]) out.push_back(std::int32_t(s));
+  return out;
+}
+
+}  // namespace scanfill

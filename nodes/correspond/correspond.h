@@ -1,0 +1,76 @@
+// correspond node: the dense source <-> exemplar map M of the paper's section 4 (DESIGN section 4).
+//
+// The exemplar samples are registered to the source samples, rigidly first (trimmed point-to-plane ICP from the
+// given, roughly aligned pose), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
+// deformation nodes, each with an affine map and a translation, solved with Ceres (sparse normal Cholesky, Huber loss
+// on the data terms). Registration alternates with an assignment: eq. 1's cost (squared distance in the common frame,
+// in alpha units, plus normal_weight (1 - n_e . n_s)) on a sparse graph of each exemplar sample's `candidates` nearest
+// source samples, plus an escape arc (left unmatched at the cost of escape_distance alpha), solved exactly as a
+// min-cost flow (LEMON NetworkSimplex, integer costs). A source sample may take up to `many_to_one` exemplar samples,
+// so partial and many-to-one matching are allowed. The deformation's stiffness starts at `stiffness` and halves every
+// outer iteration. User landmarks (exemplar point -> source point) enter as heavily weighted data terms.
+//
+// Every source sample ends up matched: one with no exemplar sample of its own takes that of its nearest matched
+// neighbour. Throws InputError when the inputs cannot be registered: too few samples, very different scales, or no
+// overlap after rigid registration.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/progress.h"
+#include "nodes/core/similarity.h"
+
+namespace scanfill {
+
+struct Landmark {
+  Eigen::Vector3d exemplar;  // a point on the exemplar (scan), in its input frame
+  Eigen::Vector3d source;    // where it belongs on the source (template)
+};
+
+struct CorrespondOptions {
+  bool rigid = true;               // rigid pre-alignment by ICP (inputs are assumed roughly aligned)
+  int rigid_iterations = 40;       // ICP steps; [1, 500]
+  double rigid_trim = 3.0;         // ICP ignores pairs farther than this times the median pair distance; >= 1
+  int outer_iterations = 4;        // assignment / deformation alternations (0 = rigid only); [0, 20]
+  int deformation_nodes = 150;     // embedded-deformation graph nodes; [4, 5000]
+  int node_neighbors = 6;          // graph edges per node; [2, 16]
+  double stiffness = 10.0;         // initial weight of the rotation and smoothness terms; > 0
+  double robust_scale = 2.0;       // Huber scale of the data terms, in alpha; > 0
+  int candidates = 8;              // nearest source samples each exemplar sample may match; [1, 64]
+  double normal_weight = 1.0;      // eq. 1 weight of (1 - n_e . n_s) against the squared distance in alpha; >= 0
+  double escape_distance = 3.0;    // an exemplar sample is left unmatched at the cost of this distance, in alpha; > 0
+  int many_to_one = 3;             // exemplar samples a source sample may take; [1, 64]
+  double landmark_weight = 100.0;  // weight of a landmark against a data term; > 0
+  double min_overlap = 0.2;        // share of exemplar samples that must lie within escape_distance after ICP; [0, 1]
+  double max_scale_ratio = 10.0;   // bounding-box diagonals may differ by at most this factor; > 1
+  Index min_samples = 50;          // fewer exemplar or source samples are refused; >= 4
+  std::vector<Landmark> landmarks;
+};
+
+struct CorrespondResult {
+  Similarity rigid;                           // exemplar input frame -> source frame (a rigid motion)
+  Eigen::Matrix3Xd registered;                // exemplar samples after the rigid motion
+  Eigen::Matrix3Xd deformed;                  // exemplar samples after the rigid motion and the deformation
+  std::vector<std::int32_t> exemplar_match;   // per exemplar sample: its source sample, or -1 (escaped)
+  std::vector<std::int32_t> source_match;     // per source sample: an exemplar sample (nearest matched rule)
+  std::vector<std::int32_t> exemplar_source;  // per exemplar sample: its match, else the source sample nearest its
+                                              // deformed position within 2 escape_distance (-1 beyond: an outlier)
+  Index matched = 0;                          // exemplar samples with a source sample
+  double rigid_rms = 0;                       // RMS distance of the trimmed ICP pairs, model units
+  double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
+  std::vector<std::string> warnings;
+};
+
+// exemplar and source: samples with normals, at the same spacing alpha.
+CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
+                            const CorrespondOptions& options, const ProgressFn& progress = {});
+
+// The source samples within `distance` of any of `points` (ascending): in completion mode, the template samples the
+// registered scan covers, which form the source S.
+std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::Matrix3Xd& points, double distance);
+
+}  // namespace scanfill

@@ -1,0 +1,238 @@
+#include "nodes/synthesize/synthesize.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+// Appends points to a synthesis under construction.
+struct Builder {
+  std::vector<Eigen::Vector3d> p, n;
+  Synthesis& out;
+  void add(const Eigen::Vector3d& position, const Eigen::Vector3d& normal, Origin origin, int label, int patch,
+           int base, bool ring) {
+    p.push_back(position);
+    n.push_back(normal);
+    out.origin.push_back(origin);
+    out.label.push_back(label);
+    out.patch.push_back(patch);
+    out.base.push_back(base);
+    out.ring.push_back(ring ? 1 : 0);
+  }
+};
+
+// Refines each used transform's inverse (source -> target) against the exemplar images already placed.
+void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
+            bool anchor_exemplar, double spacing, const SynthesisOptions& o, std::vector<Similarity>& inv,
+            Synthesis& out) {
+  const size_t L = inv.size();
+  out.refinement_deg.assign(L, 0.0);
+  out.refinement_shift.assign(L, 0.0);
+  if (o.refine_iterations <= 0) return;
+  std::vector<char> placed(L, 0);
+  Eigen::Matrix3Xd ref_p(3, 0), ref_n(3, 0);
+  const auto image = [&](const Similarity& q, Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& n) {
+    p.resize(3, ep.cols());
+    n.resize(3, ep.cols());
+    for (Index e = 0; e < ep.cols(); ++e) {
+      p.col(e) = q.apply(ep.col(e));
+      n.col(e) = q.apply_normal(en.col(e));
+    }
+  };
+  const auto place = [&](const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& n) {
+    Eigen::Matrix3Xd np(3, ref_p.cols() + p.cols()), nn(3, ref_n.cols() + n.cols());
+    np << ref_p, p;
+    nn << ref_n, n;
+    ref_p = std::move(np);
+    ref_n = std::move(nn);
+  };
+  size_t remaining = 0;
+  for (size_t l = 0; l < L; ++l) remaining += region_size[l] > 0;
+  if (anchor_exemplar) {
+    place(ep, en);
+  } else if (remaining > 0) {
+    const size_t biggest = size_t(std::max_element(region_size.begin(), region_size.end()) - region_size.begin());
+    Eigen::Matrix3Xd p, n;
+    image(inv[biggest], p, n);
+    place(p, n);
+    placed[biggest] = 1;
+    --remaining;
+  }
+  const double limit2 = std::pow(o.refine_distance * spacing, 2);
+  KdTree tree;
+  for (; remaining > 0; --remaining) {
+    tree.build(ref_p);
+    // The unplaced transform whose image overlaps the placed images most.
+    size_t best = L;
+    Index best_overlap = -1;
+    for (size_t l = 0; l < L; ++l) {
+      if (placed[l] || region_size[l] == 0) continue;
+      std::vector<std::uint8_t> near(size_t(ep.cols()), 0);
+      tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
+        std::int32_t i;
+        double d2;
+        tree.knn(inv[l].apply(ep.col(e)), 1, &i, &d2);
+        near[size_t(e)] = d2 <= limit2 && inv[l].apply_normal(en.col(e)).dot(ref_n.col(i)) > 0.5;
+      });
+      const auto overlap = Index(std::count(near.begin(), near.end(), 1));
+      if (overlap > best_overlap) {
+        best_overlap = overlap;
+        best = l;
+      }
+    }
+    placed[best] = 1;
+    Eigen::Matrix3Xd p, n;
+    if (best_overlap >= 30) {
+      // Rigid point-to-plane ICP of the image onto the placed images, on the overlap only.
+      Similarity c;
+      for (int it = 0; it < o.refine_iterations; ++it) {
+        image(c.compose(inv[best]), p, n);
+        std::vector<std::int32_t> match(size_t(p.cols()), -1);
+        tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
+          std::int32_t i;
+          double d2;
+          tree.knn(p.col(e), 1, &i, &d2);
+          if (d2 <= limit2 && n.col(e).dot(ref_n.col(i)) > 0.5) match[size_t(e)] = i;
+        });
+        std::vector<Index> pairs;
+        for (Index e = 0; e < p.cols(); ++e)
+          if (match[size_t(e)] >= 0) pairs.push_back(e);
+        if (pairs.size() < 30) break;
+        Eigen::Matrix3Xd a(3, Index(pairs.size())), b(3, Index(pairs.size())), bn(3, Index(pairs.size()));
+        for (size_t j = 0; j < pairs.size(); ++j) {
+          a.col(Index(j)) = p.col(pairs[j]);
+          b.col(Index(j)) = ref_p.col(match[size_t(pairs[j])]);
+          bn.col(Index(j)) = ref_n.col(match[size_t(pairs[j])]);
+        }
+        c = point_to_plane_step(c, a, b, bn, false);
+      }
+      inv[best] = c.compose(inv[best]);
+      out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
+      out.refinement_shift[best] = c.translation.norm();
+    }
+    image(inv[best], p, n);
+    place(p, n);
+  }
+}
+
+}  // namespace
+
+Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& o) {
+  const PointSet& E = in.exemplar;
+  const PointSet& T = in.target;
+  if (!E.has_normals() || !T.has_normals()) throw InvariantError("synthesize needs exemplar and target normals");
+  if (in.labels.size() != size_t(T.size())) throw InvariantError("synthesize: one label per target sample expected");
+  Synthesis out;
+  Builder b{{}, {}, out};
+  const auto covered = [&](Index t) { return in.covered && (*in.covered)[size_t(t)] != 0; };
+
+  // The exemplar in the working frame.
+  Eigen::Matrix3Xd ep(3, E.size()), en(3, E.size());
+  for (Index e = 0; e < E.size(); ++e) {
+    ep.col(e) = in.exemplar_to_working.apply(E.positions().col(e));
+    en.col(e) = in.exemplar_to_working.apply_normal(E.normals().col(e));
+  }
+  if (in.covered) {
+    out.patches.push_back({-1, Origin::kExemplar, false, Similarity{}});
+    for (Index e = 0; e < E.size(); ++e) b.add(ep.col(e), en.col(e), Origin::kExemplar, -1, 0, int(e), false);
+  }
+
+  KdTree target_tree;
+  target_tree.build(T.positions());
+  const int k = int(std::min<Index>(o.ring_k, T.size() - 1));
+  std::vector<std::int32_t> graph(static_cast<size_t>(T.size()) * size_t(std::max(k, 0)));
+  if (k > 0)
+    tbb::parallel_for(Index(0), T.size(), [&](Index t) {
+      std::array<std::int32_t, 33> idx;
+      std::array<double, 33> d2;
+      target_tree.knn(T.positions().col(t), k + 1, idx.data(), d2.data());
+      for (int a = 0; a < k; ++a) graph[size_t(t) * size_t(k) + size_t(a)] = idx[size_t(a) + 1];
+    });
+
+  // Transform labels: the exemplar carried by Q_l^-1 into region l and its ring, after refinement.
+  std::vector<Similarity> inverse;
+  std::vector<Index> region_size(in.transforms.size(), 0);
+  for (const auto& q : in.transforms) inverse.push_back(q.inverse());
+  for (Index t = 0; t < T.size(); ++t) {
+    const int l = in.labels[size_t(t)];
+    if (l >= 0 && l < int(in.transforms.size()) && !covered(t)) ++region_size[size_t(l)];
+  }
+  refine(ep, en, region_size, in.covered != nullptr, spacing, o, inverse, out);
+  const double reach2 = std::pow(o.reach * spacing, 2);
+  std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
+  for (int l = 0; l < int(in.transforms.size()); ++l) {
+    bool any = false;
+    for (Index t = 0; t < T.size(); ++t) {
+      member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
+      any = any || member[size_t(t)] == 2;
+    }
+    if (!any) continue;
+    for (Index t = 0; t < T.size(); ++t) {
+      if (member[size_t(t)] != 0 || covered(t)) continue;
+      for (int a = 0; a < k; ++a)
+        if (member[size_t(graph[size_t(t) * size_t(k) + size_t(a)])] == 2) {
+          member[size_t(t)] = 1;
+          break;
+        }
+    }
+    const Similarity& inv = inverse[size_t(l)];
+    const int patch = int(out.patches.size());
+    out.patches.push_back({l, Origin::kSynthesized, false, inv});
+    std::vector<std::int8_t> hit(size_t(E.size()), 0);
+    tbb::parallel_for(Index(0), E.size(), [&](Index e) {
+      const auto s = in.exemplar_source[size_t(e)];
+      if (s < 0) return;
+      std::int32_t t;
+      double d2;
+      target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
+      if (d2 <= reach2 && member[size_t(t)] != 0) hit[size_t(e)] = std::int8_t(member[size_t(t)]);
+    });
+    for (Index e = 0; e < E.size(); ++e)
+      if (hit[size_t(e)])
+        b.add(inv.apply(ep.col(e)), inv.apply_normal(en.col(e)), Origin::kSynthesized, l, patch, int(e),
+              hit[size_t(e)] == 1);
+  }
+
+  // Self-referenced regions, and target samples no patch reached: copies of the target.
+  const int self_patch = int(out.patches.size());
+  out.patches.push_back({in.self_label, Origin::kTarget, true, Similarity{}});
+  std::vector<std::uint8_t> reached(size_t(T.size()), 0);
+  if (!b.p.empty()) {
+    Eigen::Matrix3Xd synthesized(3, Index(b.p.size()));
+    for (size_t i = 0; i < b.p.size(); ++i) synthesized.col(Index(i)) = b.p[i];
+    KdTree tree;
+    tree.build(synthesized);
+    const double gap2 = std::pow(o.gap_distance * spacing, 2);
+    tbb::parallel_for(Index(0), T.size(), [&](Index t) {
+      std::int32_t i;
+      double d2;
+      tree.knn(T.positions().col(t), 1, &i, &d2);
+      reached[size_t(t)] = d2 <= gap2;
+    });
+  }
+  for (Index t = 0; t < T.size(); ++t) {
+    if (covered(t)) continue;
+    const bool self = in.labels[size_t(t)] == in.self_label;
+    if (!self && reached[size_t(t)]) continue;
+    if (!self) ++out.gap_copies;
+    b.add(T.positions().col(t), T.normals().col(t), Origin::kTarget, in.self_label, self_patch, int(t), false);
+  }
+
+  Eigen::Matrix3Xd P(3, Index(b.p.size())), N(3, Index(b.p.size()));
+  for (size_t i = 0; i < b.p.size(); ++i) {
+    P.col(Index(i)) = b.p[i];
+    N.col(Index(i)) = b.n[i];
+  }
+  out.points = PointSet(std::move(P));
+  out.points.set_normals(std::move(N));
+  return out;
+}
+
+}  // namespace scanfill

@@ -1,0 +1,76 @@
+// synthesize node: the analogy A* = M A M^-1 applied to the exemplar, per sample (paper section 5.3, DESIGN section 4).
+//
+// All positions are in the working frame: the source's and target's (the exemplar enters after its rigid
+// registration). The label node gives each target sample t a transform Q_l with Q_l p_t ~ p_s (target -> source).
+// An exemplar sample e whose source sample s = M^-1(e) maps back into the region labelled l (the target sample
+// nearest Q_l^-1 p_s lies within `reach` alpha and is labelled l) is carried into the output as Q_l^-1 p_e: the
+// exemplar's own geometry, style included, moved where the structure needs it. Each region is extended by its
+// boundary ring (the target samples next to it on the kNN graph), so neighbouring patches overlap and the align node
+// can close the seams. Target regions labelled self-reference are copied as they are; so are target samples that no
+// patch reached (a hole in the exemplar), with a count in the result.
+//
+// The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
+// but the exemplar's detail (flutes, beads) repeats only at some angles. So, before carrying the exemplar, each
+// transform is refined by rigid ICP of its image of the exemplar onto the images already placed, where they overlap
+// (the scan itself first in completion mode, else the largest region's image), the transform whose image overlaps
+// the placed ones most going next. A transform whose image overlaps nothing placed is kept as labelled.
+//
+// In completion mode the exemplar is the scan: its samples are part of the output as they are (origin 0), and target
+// samples it covers (`covered`) get nothing synthesised.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+
+namespace scanfill {
+
+enum class Origin : std::uint8_t { kExemplar = 0, kSynthesized = 1, kTarget = 2 };
+
+// A patch: one transform applied to one input (the exemplar, or the target for copies).
+struct Patch {
+  int label = -1;                     // transform label; -1 for the exemplar itself; the self label for copies
+  Origin origin = Origin::kExemplar;  // what its points are
+  bool from_target = false;           // base input: the target (copies) or the exemplar
+  Similarity transform;               // base input's working frame -> working frame
+};
+
+struct SynthesisOptions {
+  double reach = 2.0;            // a mapped source sample belongs to a region within this many alpha; > 0
+  int ring_k = 8;                // kNN graph that defines a region's boundary ring; [0, 32] (0 = no overlap)
+  double gap_distance = 4.0;     // a target sample with no synthesised sample this close (alpha) is copied; > 0
+  int refine_iterations = 10;    // ICP steps refining each transform against the exemplar's overlapping images; >= 0
+  double refine_distance = 3.0;  // ICP pairs closer than this, in alpha; > 0
+};
+
+struct Synthesis {
+  PointSet points;                  // working frame: positions and normals
+  std::vector<Origin> origin;       // per point
+  std::vector<std::int32_t> label;  // per point: the transform label, -1 for exemplar points, self label for copies
+  std::vector<std::int32_t> patch;  // per point: index into patches
+  std::vector<std::int32_t> base;   // per point: the exemplar sample or target sample it came from
+  std::vector<std::uint8_t> ring;   // per point: 1 when it lies on its region's extension ring
+  std::vector<Patch> patches;
+  Index gap_copies = 0;                  // target samples copied because no patch reached them
+  std::vector<double> refinement_deg;    // per transform label: rotation of its refinement (0 if unrefined/unused)
+  std::vector<double> refinement_shift;  // per transform label: translation of its refinement, model units
+};
+
+struct SynthesisInputs {
+  const PointSet& exemplar;                          // exemplar samples, input frame, with normals
+  const Similarity& exemplar_to_working;             // the correspondence's rigid registration
+  const std::vector<std::int32_t>& exemplar_source;  // per exemplar sample: M^-1, a source sample or -1
+  const PointSet& source;                            // source samples (working frame)
+  const PointSet& target;                            // target samples (working frame), with normals
+  const std::vector<int>& labels;                    // per target sample (label node)
+  int self_label = 0;
+  const std::vector<Similarity>& transforms;           // per transform label: Q_l, target -> source
+  const std::vector<std::uint8_t>* covered = nullptr;  // completion: target samples the scan covers; else null
+};
+
+Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);
+
+}  // namespace scanfill

@@ -1,0 +1,41 @@
+// transfer node: the sample-level result carried to every original point or triangle (paper section 6's
+// post-processing, generalised; DESIGN sections 2 and 4).
+//
+// Each patch of the synthesis applies one transform to one input (the exemplar, or the target for copies). Every
+// original point of that input follows the patch of its nearest sample: it is emitted, moved by the patch's transform,
+// exactly when its nearest sample was (and survived the align node's thinning), and the alignment offset of that
+// sample is applied along the sample's normal. Where the inputs are meshes, every triangle whose three corners are
+// emitted by a patch is emitted with them, so the output keeps the exemplar's full resolution and connectivity. Memory
+// is linear in the output: one index per input point and patch, no dense tables. Finally the working frame is mapped
+// to the output frame (in completion, back to the scan's own frame).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nodes/align/align.h"
+#include "nodes/core/progress.h"
+#include "nodes/synthesize/synthesize.h"
+
+namespace scanfill {
+
+struct TransferInputs {
+  const PointSet& exemplar;          // the exemplar as loaded (input frame)
+  const PointSet& exemplar_samples;  // its samples (input frame)
+  const PointSet& target;            // the target as loaded (working frame)
+  const PointSet& target_samples;    // its samples
+  const Similarity& exemplar_to_working;
+  const Synthesis& synthesis;
+  const AlignResult& alignment;
+  const Similarity& working_to_output;
+};
+
+struct TransferResult {
+  PointSet points;                  // positions, normals, faces when the exemplar is a mesh
+  std::vector<Origin> origin;       // per point
+  std::vector<std::int32_t> label;  // per point
+};
+
+TransferResult transfer(const TransferInputs& in, const ProgressFn& progress = {});
+
+}  // namespace scanfill
