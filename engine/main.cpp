@@ -110,7 +110,8 @@ PointSet load_shape(const std::string& text) {
 }
 
 int run_eval(const std::string& output, const std::string& reference, double threshold, const std::string& scan,
-             const std::string& template_shape, Index samples) {
+             const std::string& template_shape, Index samples, bool baselines) {
+  if (baselines && scan.empty()) return fail("eval: --baselines needs --scan and --template", 2);
   if (scan.empty() != template_shape.empty()) return fail("eval: --scan and --template go together", 2);
   EvalOptions o;
   o.threshold = threshold;
@@ -136,6 +137,19 @@ int run_eval(const std::string& output, const std::string& reference, double thr
   if (r.unseen_detail_recall) {
     j["unseen_detail_recall"] = *r.unseen_detail_recall;
     j["unseen_detail_points"] = r.unseen_detail_points;
+  }
+  if (baselines) {
+    // The scan alone, and the template filling what the scan lacks (gap: twice the F-score distance).
+    const PointSet blend = template_blend(s, t, 2 * r.tau, o);
+    for (const auto& [name, shape] :
+         {std::pair<const char*, const PointSet*>{"scan_only", &s}, {"template_blend", &blend}}) {
+      const EvalResult b = evaluate(*shape, ref, o, &s, &t);
+      j["baselines"][name] = {{"fscore", b.fscore},
+                              {"chamfer_l1", b.chamfer_l1},
+                              {"precision", b.precision},
+                              {"recall", b.recall},
+                              {"unseen_detail_recall", b.unseen_detail_recall.value_or(0.0)}};
+    }
   }
   std::cout << j.dump(2) << std::endl;
   return 0;
@@ -219,6 +233,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-9, 1.0));
   ev->add_option("--scan", e_scan, "the partial scan (with --template: unseen-detail recall)");
   ev->add_option("--template", e_template, "the structural template (with --scan)");
+  bool e_baselines = false;
+  ev->add_flag("--baselines", e_baselines,
+               "with --scan and --template: also score the scan alone and the template-blending completion");
   ev->add_option("--samples", e_samples, "random points drawn on each mesh")
       ->check(CLI::Range(Index(1), Index(1) << 30));
   add_common(ev);
@@ -258,7 +275,7 @@ int main(int argc, char** argv) {
     }
     if (ev->parsed()) {
       const auto limit = limit_threads(threads);
-      return run_eval(e_out, e_ref, e_threshold, e_scan, e_template, e_samples);
+      return run_eval(e_out, e_ref, e_threshold, e_scan, e_template, e_samples, e_baselines);
     }
     if (samp->parsed()) {
       const auto limit = limit_threads(threads);

@@ -36,4 +36,9 @@ struct EvalResult {
 EvalResult evaluate(const PointSet& output, const PointSet& reference, const EvalOptions& options,
                     const PointSet* scan = nullptr, const PointSet* template_shape = nullptr);
 
+// The classic template-blending completion, a baseline for completion results: the scan's points plus the template's
+// points (`surface_samples` random points of a mesh, or its own points) farther than `gap` from the scan. Both inputs
+// are taken as they are (roughly aligned, as scanfill's inputs are).
+PointSet template_blend(const PointSet& scan, const PointSet& template_shape, double gap, const EvalOptions& options);
+
 }  // namespace scanfill

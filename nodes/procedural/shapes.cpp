@@ -1,6 +1,7 @@
 #include "nodes/procedural/shapes.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -181,9 +182,86 @@ PointSet merged(const PointSet& a, const PointSet& b) {
   return out;
 }
 
+PointSet make_prism(const std::function<double(double)>& radius, double z0, double height, int segments) {
+  MeshBuilder m;
+  const int rings = std::max(1, int(std::ceil(segments * height / (2 * M_PI * radius(0.0)))));
+  const int spokes = std::max(2, segments / 8);
+  const auto at = [&](double s, double r_scale, double z) {
+    const double phi = 2 * M_PI * s, r = radius(phi) * r_scale;
+    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  m.grid([&](double s, double t) { return at(s, 1.0, z0 + t * height); }, segments, rings, true);
+  m.grid([&](double s, double t) { return at(s, 1.0 - t, z0 + height); }, segments, spokes, true);  // top, +z
+  m.grid([&](double s, double t) { return at(s, t, z0); }, segments, spokes, true);                 // bottom, -z
+  return m.build();
+}
+
+PointSet make_column(int flutes) {
+  return make_prism([=](double phi) { return 0.3 - 0.02 * std::pow(std::cos(flutes * phi / 2), 8); }, 0.0, 1.2, 384);
+}
+PointSet make_column_template() {
+  return make_prism([](double) { return 0.3; }, 0.0, 1.2, 384);
+}
+
+PointSet make_gear(int teeth) {
+  // Trapezoidal teeth: a smooth clamp of a cosine.
+  return make_prism([=](double phi) { return 0.45 + 0.06 * std::clamp(0.5 + 1.2 * std::cos(teeth * phi), 0.0, 1.0); },
+                    0.0, 0.15, 720);
+}
+PointSet make_gear_template() {
+  return make_prism([](double) { return 0.48; }, 0.0, 0.15, 720);
+}
+
+namespace {
+
+// Legs of revolution (profile r(t), t in [0, 1] up the leg) at x = each of leg_x, y = +-0.22, under a box top.
+PointSet table_with_legs(const std::function<double(double)>& leg_profile, double length,
+                         const std::vector<double>& leg_x) {
+  PointSet out = transformed(make_box(Eigen::Vector3d(length, 0.6, 0.06), 48),
+                             Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.73), 1.0});
+  for (const double x : leg_x)
+    for (const double y : {-0.22, 0.22}) {
+      MeshBuilder m;
+      m.grid(
+          [&](double s, double t) {
+            const double phi = 2 * M_PI * s, r = leg_profile(t);
+            return Eigen::Vector3d(x + r * std::cos(phi), y + r * std::sin(phi), 0.7 * t);
+          },
+          48, 96, true);
+      out = merged(out, m.build());
+    }
+  return out;
+}
+
+// A turned leg: a taper, a bulb at 60% of the height, two rings near the top, a foot ring.
+double turned_leg(double t) {
+  return 0.03 + 0.01 * (1 - t) + 0.03 * std::exp(-std::pow((t - 0.6) / 0.08, 2)) +
+         0.02 * std::exp(-std::pow((t - 0.86) / 0.025, 2)) + 0.02 * std::exp(-std::pow((t - 0.95) / 0.02, 2)) +
+         0.02 * std::exp(-std::pow((t - 0.05) / 0.03, 2));
+}
+double plain_leg(double) {
+  return 0.04;
+}
+
+}  // namespace
+
+PointSet make_table() {
+  return table_with_legs(turned_leg, 1.0, {-0.42, 0.42});
+}
+PointSet make_table_template() {
+  return table_with_legs(plain_leg, 1.0, {-0.42, 0.42});
+}
+PointSet make_bench() {
+  return table_with_legs(turned_leg, 1.8, {-0.82, 0.0, 0.82});
+}
+PointSet make_bench_template() {
+  return table_with_legs(plain_leg, 1.8, {-0.82, 0.0, 0.82});
+}
+
 const std::vector<std::string>& shape_names() {
-  static const std::vector<std::string> names{"plane", "sphere", "cylinder", "blob",
-                                              "box",   "box_l",  "vase",     "vase_template"};
+  static const std::vector<std::string> names{
+      "plane",  "sphere",          "cylinder", "blob",          "box",   "box_l",          "vase",  "vase_template",
+      "column", "column_template", "gear",     "gear_template", "table", "table_template", "bench", "bench_template"};
   return names;
 }
 
@@ -202,6 +280,14 @@ PointSet make_shape(const std::string& name) {
   }
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();
+  if (name == "column") return make_column();
+  if (name == "column_template") return make_column_template();
+  if (name == "gear") return make_gear();
+  if (name == "gear_template") return make_gear_template();
+  if (name == "table") return make_table();
+  if (name == "table_template") return make_table_template();
+  if (name == "bench") return make_bench();
+  if (name == "bench_template") return make_bench_template();
   std::string valid;
   for (const auto& n : shape_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InputError("unknown procedural shape '" + name + "' (valid: " + valid + ")");

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,25 @@ PointSet make_box(const Eigen::Vector3d& size, int segments_per_unit = 32);
 // A sphere of radius 0.5 with `bumps` Gaussian bumps of random size in random directions (seeded): a shape without
 // symmetry, with curvature that varies everywhere, for tests whose transform must be unique.
 PointSet make_blob(int bumps = 8, std::uint64_t seed = 3, int segments = 128);
+
+// Closed prism along z from z = z0 to z0 + height whose cross-section has radius r(phi) (wall plus two caps): the
+// building block of the end-to-end fixtures below.
+PointSet make_prism(const std::function<double(double)>& radius, double z0, double height, int segments);
+// A fluted column (radius 0.3, height 1.2, base at z = 0, `flutes` grooves along its whole height, closed), and its
+// template: the plain closed cylinder.
+PointSet make_column(int flutes = 16);
+PointSet make_column_template();
+// A gear (radius 0.45 with `teeth` teeth 0.06 high, 0.15 thick, base at z = 0), and its template: the plain disk.
+PointSet make_gear(int teeth = 20);
+PointSet make_gear_template();
+// A table (top 1 x 0.6 x 0.06 at height 0.7, four turned legs with beads and rings), and its template: the same top
+// on four plain cylindrical legs.
+PointSet make_table();
+PointSet make_table_template();
+// A long table (top 1.8 x 0.6, six turned legs) and its plain template: the structurally different target of the
+// furniture transfer example.
+PointSet make_bench();
+PointSet make_bench_template();
 
 // The mesh moved by q (faces kept), and two meshes as one.
 PointSet transformed(const PointSet& mesh, const Similarity& q);

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,10 +30,51 @@ struct Builder {
   }
 };
 
+// The rigid motions along which the target region slides on itself (Gelfand and Guibas 2004, slippage analysis): the
+// eigenvectors of the point-to-plane Hessian with eigenvalues below `ratio` times the largest, as (w, tau) 6-vectors
+// about `centre`, with positions in units of the region's RMS radius so that rotations and translations compare.
+std::vector<Eigen::Matrix<double, 6, 1>> slippable_motions(const PointSet& target, const std::vector<int>& labels,
+                                                           int label, Eigen::Vector3d& centre, double& radius) {
+  centre.setZero();
+  Index n = 0;
+  for (Index t = 0; t < target.size(); ++t)
+    if (labels[size_t(t)] == label) {
+      centre += target.positions().col(t);
+      ++n;
+    }
+  if (n < 30) return {};
+  centre /= double(n);
+  radius = 0;
+  for (Index t = 0; t < target.size(); ++t)
+    if (labels[size_t(t)] == label) radius += (target.positions().col(t) - centre).squaredNorm();
+  radius = std::sqrt(radius / double(n));
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  for (Index t = 0; t < target.size(); ++t) {
+    if (labels[size_t(t)] != label) continue;
+    const Eigen::Vector3d q = (target.positions().col(t) - centre) / radius, nn = target.normals().col(t);
+    Eigen::Matrix<double, 6, 1> J;
+    J << q.cross(nn), nn;
+    A += J * J.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
+  std::vector<Eigen::Matrix<double, 6, 1>> out;
+  for (int i = 0; i < 2; ++i)  // ascending eigenvalues: at most the two most slippable motions
+    if (eig.eigenvalues()(i) < 0.02 * eig.eigenvalues()(5)) out.push_back(eig.eigenvectors().col(i));
+  return out;
+}
+
+// The motion exp(s v) about `centre` (v in radius units) as a similarity.
+Similarity motion(const Eigen::Matrix<double, 6, 1>& v, double s, const Eigen::Vector3d& centre, double radius) {
+  const Eigen::Vector3d w = v.head<3>() * s, tau = v.tail<3>() * s * radius;
+  const Eigen::Matrix3d R =
+      w.norm() > 1e-15 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  return Similarity{R, centre - R * centre + tau, 1.0};
+}
+
 // Refines each used transform's inverse (source -> target) against the exemplar images already placed.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
-            bool anchor_exemplar, double spacing, const SynthesisOptions& o, std::vector<Similarity>& inv,
-            Synthesis& out) {
+            bool anchor_exemplar, double spacing, const SynthesisOptions& o, const PointSet& target,
+            const std::vector<int>& labels, std::vector<Similarity>& inv, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -89,9 +132,52 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     }
     placed[best] = 1;
     Eigen::Matrix3Xd p, n;
-    if (best_overlap >= 30) {
-      // Rigid point-to-plane ICP of the image onto the placed images, on the overlap only.
+    if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
+      // Where the template slides on itself, the template cannot tell the phase of the exemplar's detail: search
+      // each slippable motion over +-search_distance alpha for the best fit of the image's detail to the placed
+      // images (mean squared distance over the overlap, which must stay at least half of the start's).
       Similarity c;
+      Eigen::Vector3d centre;
+      double radius = 1;
+      for (const auto& v : slippable_motions(target, labels, int(best), centre, radius)) {
+        const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
+        if (!(rate > 0)) continue;
+        const double step = 0.5 * spacing / rate;
+        const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
+        double best_score = 0;
+        Index start_overlap = 0;
+        double start_score = 0;
+        int best_step = 0;
+        for (int k = 0; k <= 2 * steps; ++k) {
+          const int i = k == 0 ? 0 : (k % 2 ? (k + 1) / 2 : -(k / 2));  // 0, 1, -1, 2, -2, ...
+          const Similarity trial = motion(v, i * step, centre, radius).compose(c).compose(inv[best]);
+          double sum = 0;
+          Index overlap = 0;
+          for (Index e = 0; e < ep.cols(); e += 2) {
+            std::int32_t j;
+            double d2;
+            const Eigen::Vector3d x = trial.apply(ep.col(e));
+            tree.knn(x, 1, &j, &d2);
+            if (d2 <= limit2) {  // point-to-plane: tangential sampling offsets do not count, misplaced detail does
+              sum += std::pow((x - ref_p.col(j)).dot(ref_n.col(j)), 2);
+              ++overlap;
+            }
+          }
+          if (k == 0) {
+            start_overlap = overlap;
+            start_score = overlap > 0 ? sum / double(overlap) : 0.0;
+          }
+          if (overlap < 15 || 2 * overlap < start_overlap) continue;
+          const double score = sum / double(overlap);
+          // A move must clearly beat the start: motions the detail does not fix (flutes along their own length) stay 0.
+          if (k == 0 || score < std::min(best_score, 0.85 * start_score)) {
+            best_score = score;
+            best_step = i;
+          }
+        }
+        c = motion(v, best_step * step, centre, radius).compose(c);
+      }
+      // Then rigid point-to-plane ICP of the image onto the placed images, on the overlap only.
       for (int it = 0; it < o.refine_iterations; ++it) {
         image(c.compose(inv[best]), p, n);
         std::vector<std::int32_t> match(size_t(p.cols()), -1);
@@ -164,7 +250,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     const int l = in.labels[size_t(t)];
     if (l >= 0 && l < int(in.transforms.size()) && !covered(t)) ++region_size[size_t(l)];
   }
-  refine(ep, en, region_size, in.covered != nullptr, spacing, o, inverse, out);
+  refine(ep, en, region_size, in.covered != nullptr, spacing, o, T, in.labels, inverse, out);
   const double reach2 = std::pow(o.reach * spacing, 2);
   std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
   for (int l = 0; l < int(in.transforms.size()); ++l) {
