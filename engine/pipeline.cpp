@@ -409,8 +409,18 @@ RunOutcome run_pipeline(const RunConfig& config) {
     auto join = std::make_unique<SpacingJoin>(g);
     auto at_spacing = std::make_unique<flow::function_node<std::tuple<LoadedPtr, SampledPtr>, SampledPtr>>(
         g, flow::serial, [&, spec](const std::tuple<LoadedPtr, SampledPtr>& in) {
+          // Inputs must share a scale (paper section 3): say so before sampling at a meaningless spacing.
+          const LoadedPtr& loaded = std::get<0>(in);
+          const LoadResult& ref = std::get<1>(in)->loaded->load;
+          const double d = bounding_box(loaded->load.points.positions()).diagonal(),
+                       dr = bounding_box(ref.points.positions()).diagonal(), limit = config.correspond.max_scale_ratio;
+          if (d > limit * dr || dr > limit * d)
+            throw Error("node 'sample:" + spec.role + "' failed on " + subject_of(spec) +
+                        ": inputs must share a scale: its bounding-box diagonal is " + std::to_string(d) + ", the " +
+                        specs[reference].role + "'s is " + std::to_string(dr) + " (more than " + std::to_string(limit) +
+                        "x apart; are the units the same?)");
           const double spacing = config.sample.spacing > 0 ? 0.0 : std::get<1>(in)->sample.spacing;
-          return sample_body(spec, std::get<0>(in), spacing);
+          return sample_body(spec, loaded, spacing);
         });
     flow::make_edge(*load_nodes[slot], flow::input_port<0>(*join));
     flow::make_edge(*sample_nodes[reference], flow::input_port<1>(*join));

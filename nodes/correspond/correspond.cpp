@@ -85,16 +85,16 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
 }
 
 // Min-cost flow assignment of exemplar samples to source samples (partial, many-to-one).
-Index assign(const PointSet& exemplar, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
+Index assign(bool exemplar_normals, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
              const PointSet& source, const KdTree& tree, double spacing, const CorrespondOptions& o,
-             std::vector<std::int32_t>& match) {
+             std::vector<std::int32_t>& match, std::int64_t* total = nullptr) {
   const Index ne = positions.cols(), ns = source.size();
   const int k = int(std::min<Index>(o.candidates, ns));
   const double scale = 1000.0;  // integer cost units per (alpha^2)
   const auto escape = std::int64_t(std::llround(scale * o.escape_distance * o.escape_distance));
   std::vector<std::int32_t> cand(size_t(ne) * size_t(k), -1);
   std::vector<std::int64_t> cost(size_t(ne) * size_t(k), 0);
-  const bool with_normals = exemplar.has_normals() && source.has_normals();
+  const bool with_normals = exemplar_normals && source.has_normals();
   tbb::parallel_for(Index(0), ne, [&](Index e) {
     std::array<std::int32_t, 64> idx;
     std::array<double, 64> d2;
@@ -142,6 +142,7 @@ Index assign(const PointSet& exemplar, const Eigen::Matrix3Xd& positions, const 
   lemon::NetworkSimplex<Graph, std::int64_t, std::int64_t> solver(g);
   solver.upperMap(upper).costMap(arc_cost).supplyMap(supply);
   if (solver.run() != decltype(solver)::OPTIMAL) throw InvariantError("correspond: the assignment has no solution");
+  if (total) *total = solver.totalCost();
   match.assign(size_t(ne), -1);
   Index matched = 0;
   for (Index e = 0; e < ne; ++e)
@@ -342,6 +343,22 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   KdTree tree;
   tree.build(source.positions());
 
+  // Roughly aligned inputs (paper section 3) overlap before any registration: ICP from a pose that shares nothing
+  // with the template would only find some arbitrary local fit.
+  {
+    std::vector<std::int32_t> idx;
+    std::vector<double> d2;
+    nearest(tree, exemplar.positions(), idx, d2);
+    const double loose = std::max(o.escape_distance * spacing, 0.1 * ds);
+    const auto close = std::count_if(d2.begin(), d2.end(), [&](double d) { return d <= loose * loose; });
+    const double share = double(close) / double(d2.size());
+    if (share < o.min_overlap)
+      throw InputError("the exemplar (scan) and the source (template) do not overlap: only " +
+                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
+                       std::to_string(loose) + " of the template (10% of its diagonal; at least " +
+                       std::to_string(int(std::round(100 * o.min_overlap))) +
+                       "% needed); inputs must be roughly aligned and at the same scale");
+  }
   // Rigid registration, then the overlap check.
   if (o.rigid) r.rigid = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
   report(progress, 0.2);
@@ -377,7 +394,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     double stiffness = o.stiffness;
     for (int it = 0; it < o.outer_iterations; ++it) {
       std::vector<std::int32_t> match;
-      assign(exemplar, r.deformed, normals, source, tree, spacing, o, match);
+      assign(exemplar.has_normals(), r.deformed, normals, source, tree, spacing, o, match);
       def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o);
       tbb::parallel_for(Index(0), exemplar.size(),
                         [&](Index i) { r.deformed.col(i) = def.apply(bindings[size_t(i)], r.registered.col(i)); });
@@ -385,7 +402,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
       report(progress, 0.2 + 0.7 * double(it + 1) / o.outer_iterations);
     }
   }
-  r.matched = assign(exemplar, r.deformed, normals, source, tree, spacing, o, r.exemplar_match);
+  r.matched = assign(exemplar.has_normals(), r.deformed, normals, source, tree, spacing, o, r.exemplar_match);
   double sum = 0;
   for (size_t e = 0; e < r.exemplar_match.size(); ++e)
     if (r.exemplar_match[e] >= 0)
@@ -439,6 +456,14 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   }
   report(progress, 1.0);
   return r;
+}
+
+Index assign_samples(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals, const PointSet& source,
+                     double spacing, const CorrespondOptions& options, std::vector<std::int32_t>& match,
+                     std::int64_t* cost) {
+  KdTree tree;
+  tree.build(source.positions());
+  return assign(normals.cols() == positions.cols(), positions, normals, source, tree, spacing, options, match, cost);
 }
 
 std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::Matrix3Xd& points, double distance) {

@@ -69,6 +69,14 @@ struct CorrespondResult {
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
                             const CorrespondOptions& options, const ProgressFn& progress = {});
 
+// One assignment step (exposed for tests): exemplar samples at `positions` with `normals` to source samples, eq. 1's
+// integer cost on each sample's `candidates` nearest, escape arcs, at most `many_to_one` per source sample, solved
+// exactly by min-cost flow. Writes per exemplar sample its source sample or -1; returns the number matched and sets
+// `cost` to the flow's total cost (in units of 1/1000 alpha^2).
+Index assign_samples(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals, const PointSet& source,
+                     double spacing, const CorrespondOptions& options, std::vector<std::int32_t>& match,
+                     std::int64_t* cost = nullptr);
+
 // The source samples within `distance` of any of `points` (ascending): in completion mode, the template samples the
 // registered scan covers, which form the source S.
 std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::Matrix3Xd& points, double distance);

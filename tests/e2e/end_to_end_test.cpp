@@ -1,0 +1,165 @@
+// End to end with ground truth (issue 4): procedural models scanned from one side by the virtual scanner, completed
+// with their plain templates, scored against the complete models; a furniture transfer scored against the styled
+// target; and inputs the pipeline must refuse with a clear message.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/config.h"
+#include "engine/console.h"
+#include "engine/pipeline.h"
+#include "nodes/core/errors.h"
+#include "nodes/eval/evaluate.h"
+#include "nodes/io/read_point_set.h"
+#include "nodes/io/write_ply.h"
+#include "nodes/procedural/shapes.h"
+#include "nodes/scan/virtual_scan.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+struct Scores {
+  double fscore = 0, unseen = 0;
+};
+
+RunConfig completion_config(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
+                            const Eigen::Vector3d& target, const std::filesystem::path& out) {
+  RunConfig c;
+  c.mode = "completion";
+  c.inputs = {{"scan", "procedural:" + shape, {}, shape}, {"template", "procedural:" + templ, {}, templ}};
+  c.output_dir = out;
+  c.virtual_scan.eye = eye;
+  c.virtual_scan.target = target;
+  c.virtual_scan.width = c.virtual_scan.height = 480;
+  c.virtual_scan.fov_deg = 35;
+  return c;
+}
+
+Scores score(const PointSet& output, const PointSet& reference, const PointSet& scan, const PointSet& templ) {
+  const EvalResult r = evaluate(output, reference, {}, &scan, &templ);
+  return {r.fscore, r.unseen_detail_recall.value_or(0)};
+}
+
+void complete_and_score(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
+                        const Eigen::Vector3d& target) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  const RunConfig c = completion_config(shape, templ, eye, target, dir / "out");
+  run_pipeline(c);
+  const PointSet reference = make_shape(shape), template_mesh = make_shape(templ);
+  ScanOptions so;
+  so.eye = eye;
+  so.target = target;
+  so.width = so.height = 480;
+  so.fov_deg = 35;
+  const PointSet scan = virtual_scan(reference, so).points;
+  const PointSet output = read_point_set(dir / "out" / "output.ply").points;
+  const Scores ours = score(output, reference, scan, template_mesh);
+  const Scores scan_only = score(scan, reference, scan, template_mesh);
+  const double tau = 0.01 * bounding_box(reference.positions()).diagonal();
+  const Scores blend = score(template_blend(scan, template_mesh, 2 * tau, {}), reference, scan, template_mesh);
+  std::printf("%s: F %.3f unseen %.3f | scan only F %.3f unseen %.3f | template blend F %.3f unseen %.3f\n",
+              shape.c_str(), ours.fscore, ours.unseen, scan_only.fscore, scan_only.unseen, blend.fscore, blend.unseen);
+  EXPECT_GE(ours.fscore, 0.90);
+  EXPECT_GE(ours.unseen, 0.70);
+  EXPECT_GT(ours.fscore, scan_only.fscore);
+  EXPECT_GT(ours.fscore, blend.fscore);
+  EXPECT_GT(ours.unseen, scan_only.unseen);
+  EXPECT_GT(ours.unseen, blend.unseen);
+}
+
+TEST(EndToEnd, VaseFromOneSideWithItsBodyOfRevolution) {
+  complete_and_score("vase", "vase_template", {0, -3, 0.6}, {0, 0, 0.5});
+}
+
+TEST(EndToEnd, GearWithADiskTemplate) {
+  complete_and_score("gear", "gear_template", {0, -2.2, 1.2}, {0, 0, 0.075});
+}
+
+TEST(EndToEnd, FlutedColumnWithACylinderTemplate) {
+  complete_and_score("column", "column_template", {0, -3.5, 2.0}, {0, 0, 0.6});
+}
+
+TEST(EndToEnd, FurnitureTransferGetsTheExemplarsLegsOnANewStructure) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  RunConfig c;
+  c.mode = "transfer";
+  c.inputs = {{"source", "procedural:table_template", {}, "table_template"},
+              {"target", "procedural:bench_template", {}, "bench_template"},
+              {"exemplar", "procedural:table", {}, "table"}};
+  c.output_dir = dir / "out";
+  run_pipeline(c);
+  const PointSet output = read_point_set(dir / "out" / "output.ply").points;
+  EXPECT_GT(output.faces().cols(), 0);  // a mesh exemplar gives a mesh
+  const PointSet styled = make_bench();
+  const double ours = evaluate(output, styled, {}).fscore;
+  const double plain = evaluate(make_bench_template(), styled, {}).fscore;
+  std::printf("transfer: F %.3f against the styled target; the plain target scores %.3f\n", ours, plain);
+  EXPECT_GE(ours, 0.85);
+  EXPECT_GT(ours, plain);
+}
+
+TEST(EndToEnd, TheSameInputGivesTheSameOutput) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  RunConfig c = completion_config("gear", "gear_template", {0, -2.2, 1.2}, {0, 0, 0.075}, dir / "a");
+  c.sample.count = 6000;
+  run_pipeline(c);
+  c.output_dir = dir / "b";
+  run_pipeline(c);
+  EXPECT_EQ(test::read_bytes(dir / "a" / "output.ply"), test::read_bytes(dir / "b" / "output.ply"));
+}
+
+// Inputs at this level that must end with a clear message and no output.
+std::string refusal(const PointSet& scan, const PointSet& templ) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  write_ply(dir / "scan.ply", scan);
+  write_ply(dir / "template.ply", templ);
+  RunConfig c;
+  c.mode = "completion";
+  c.inputs = {{"scan", "scan.ply", dir / "scan.ply", ""}, {"template", "template.ply", dir / "template.ply", ""}};
+  c.output_dir = dir / "out";
+  c.sample.count = 4000;
+  try {
+    run_pipeline(c);
+  } catch (const Error& e) {
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(EndToEnd, RefusesATemplateThatDoesNotOverlapTheScan) {
+  ScanOptions so;
+  so.eye = {0, -3, 0.6};
+  so.target = {0, 0, 0.5};
+  const PointSet scan = virtual_scan(make_vase(), so).points;
+  const PointSet far = transformed(make_vase_template(), {Eigen::Matrix3d::Identity(), {4, 0, 0}, 1});
+  const std::string what = refusal(scan, far);
+  EXPECT_NE(what.find("node 'correspond' failed"), std::string::npos) << what;
+  EXPECT_NE(what.find("do not overlap"), std::string::npos) << what;
+}
+
+TEST(EndToEnd, RefusesInputsOfVeryDifferentScale) {
+  ScanOptions so;
+  so.eye = {0, -3, 0.6};
+  so.target = {0, 0, 0.5};
+  const PointSet scan = virtual_scan(make_vase(), so).points;
+  const PointSet mm = transformed(make_vase_template(), {Eigen::Matrix3d::Identity(), {0, 0, 0}, 1000});
+  const std::string what = refusal(scan, mm);
+  EXPECT_NE(what.find("share a scale"), std::string::npos) << what;
+}
+
+TEST(EndToEnd, RefusesAScanOfTenPoints) {
+  Eigen::Matrix3Xd p(3, 10);
+  for (int i = 0; i < 10; ++i) p.col(i) = Eigen::Vector3d(0.3 * std::cos(i), 0.3 * std::sin(i), 0.1 * i);
+  const std::string what = refusal(PointSet(p), make_vase_template());
+  EXPECT_NE(what.find("scan"), std::string::npos) << what;
+  EXPECT_NE(what.find("10"), std::string::npos) << what;
+}
+
+}  // namespace
+}  // namespace scanfill

@@ -1,0 +1,161 @@
+// correspond: rigid and non-rigid registration, the min-cost-flow assignment against a brute-force oracle, and the
+// refusals of inputs that cannot be registered (issue 4).
+#include "nodes/correspond/correspond.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "nodes/core/errors.h"
+#include "nodes/features/estimate_features.h"
+#include "nodes/procedural/shapes.h"
+#include "nodes/sample/sample.h"
+
+namespace scanfill {
+namespace {
+
+PointSet featured(const PointSet& mesh, double spacing, std::uint64_t seed = 1) {
+  return estimate_features(sample(mesh, {.spacing = spacing, .seed = seed}).samples, {}).points;
+}
+
+TEST(Correspond, RigidRegistrationUndoesASmallMotion) {
+  const PointSet blob = make_blob();
+  const SampleResult s = sample(blob, {.count = 6000});
+  const double alpha = s.spacing;
+  const PointSet source = estimate_features(s.samples, {}).points;
+  const Similarity motion{Eigen::AngleAxisd(0.08, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(),
+                          Eigen::Vector3d(0.02, -0.015, 0.01), 1.0};
+  const PointSet exemplar = featured(transformed(blob, motion), alpha, 7);
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const CorrespondResult r = correspond(exemplar, source, alpha, o);
+  // rigid should be the inverse motion.
+  const Similarity undo = r.rigid.compose(motion);
+  EXPECT_LT(rotation_angle(undo.rotation) * 180 / M_PI, 0.5);
+  EXPECT_LT(undo.translation.norm(), 0.5 * alpha);
+  EXPECT_GT(r.matched, exemplar.size() * 9 / 10);
+}
+
+TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
+  const PointSet cyl = make_cylinder(0.3, 1.0, 128);
+  const SampleResult s = sample(cyl, {.count = 5000});
+  const double alpha = s.spacing;
+  const PointSet source = estimate_features(s.samples, {}).points;
+  // A smooth non-rigid change: radius grows with height (up to 8 alpha-ish), which no rigid motion can fit.
+  Eigen::Matrix3Xd p = cyl.positions();
+  for (Index i = 0; i < p.cols(); ++i) {
+    const double z = p(2, i);
+    p.col(i).head<2>() *= 1.0 + 0.12 * (z + 0.5);
+  }
+  PointSet bent(p);
+  bent.set_faces(cyl.faces());
+  const PointSet exemplar = featured(bent, alpha, 3);
+  CorrespondOptions rigid_only;
+  rigid_only.outer_iterations = 0;
+  const CorrespondResult r0 = correspond(exemplar, source, alpha, rigid_only);
+  const CorrespondResult r = correspond(exemplar, source, alpha, {});
+  EXPECT_LT(r.deformed_rms, 0.5 * r0.deformed_rms) << r0.deformed_rms << " -> " << r.deformed_rms;
+  EXPECT_LT(r.deformed_rms, alpha);
+  // Every source sample has an exemplar sample (nearest matched rule).
+  for (const auto e : r.source_match) EXPECT_GE(e, 0);
+  EXPECT_EQ(r.exemplar_source.size(), size_t(exemplar.size()));
+}
+
+// Brute force over every partial many-to-one assignment: the same optimum as the flow.
+TEST(Correspond, AssignmentIsTheMinCostFlowOptimum) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int ne = 3 + trial % 4, ns = 2 + trial % 3;
+    Eigen::Matrix3Xd ep(3, ne), en(3, ne), sp(3, ns), sn(3, ns);
+    for (int i = 0; i < ne; ++i) {
+      ep.col(i) = Eigen::Vector3d(u(rng), u(rng), 0) * 3;
+      en.col(i) = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, 1).normalized();
+    }
+    for (int i = 0; i < ns; ++i) {
+      sp.col(i) = Eigen::Vector3d(u(rng), u(rng), 0) * 3;
+      sn.col(i) = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, 1).normalized();
+    }
+    PointSet source(sp);
+    source.set_normals(sn);
+    CorrespondOptions o;
+    o.candidates = ns;  // the full bipartite graph: the oracle sees the same problem
+    o.many_to_one = 1 + trial % 2;
+    o.escape_distance = 1.5;
+    std::vector<std::int32_t> match;
+    std::int64_t flow_cost = 0;
+    assign_samples(ep, en, source, 1.0, o, match, &flow_cost);
+    // Cost of one pair, as eq. 1 in integer units (same rounding as the node).
+    const auto pair_cost = [&](int e, int s) {
+      const double c = (ep.col(e) - sp.col(s)).squaredNorm() + o.normal_weight * (1 - en.col(e).dot(sn.col(s)));
+      return std::int64_t(std::llround(1000 * c));
+    };
+    const std::int64_t escape = std::llround(1000 * o.escape_distance * o.escape_distance);
+    std::int64_t best = std::numeric_limits<std::int64_t>::max();
+    std::vector<int> choice(size_t(ne), -1);
+    std::function<void(int, std::vector<int>&, std::int64_t)> search = [&](int e, std::vector<int>& load,
+                                                                           std::int64_t cost) {
+      if (e == ne) {
+        best = std::min(best, cost);
+        return;
+      }
+      search(e + 1, load, cost + escape);
+      for (int s = 0; s < ns; ++s) {
+        const std::int64_t c = pair_cost(e, s);
+        if (c >= escape || load[size_t(s)] >= o.many_to_one) continue;
+        ++load[size_t(s)];
+        search(e + 1, load, cost + c);
+        --load[size_t(s)];
+      }
+    };
+    std::vector<int> load(size_t(ns), 0);
+    search(0, load, 0);
+    EXPECT_EQ(flow_cost, best) << "trial " << trial;
+    // And the reported matching has that cost and respects the capacities.
+    std::int64_t cost = 0;
+    std::vector<int> used(size_t(ns), 0);
+    for (int e = 0; e < ne; ++e) {
+      if (match[size_t(e)] < 0) {
+        cost += escape;
+      } else {
+        cost += pair_cost(e, match[size_t(e)]);
+        ++used[size_t(match[size_t(e)])];
+      }
+    }
+    EXPECT_EQ(cost, best);
+    for (int s = 0; s < ns; ++s) EXPECT_LE(used[size_t(s)], o.many_to_one);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 60);
+}
+
+TEST(Correspond, RefusesInputsThatCannotBeRegistered) {
+  const PointSet blob = make_blob();
+  const SampleResult s = sample(blob, {.count = 3000});
+  const PointSet source = estimate_features(s.samples, {}).points;
+  const auto message = [&](const PointSet& exemplar) {
+    try {
+      correspond(exemplar, source, s.spacing, {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Far away: no overlap after ICP.
+  const PointSet away =
+      featured(transformed(blob, Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(5, 0, 0), 1}), s.spacing);
+  EXPECT_NE(message(away).find("do not overlap"), std::string::npos) << message(away);
+  // Millimetres against metres.
+  const PointSet huge = featured(
+      transformed(blob, Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), 1000}), s.spacing * 1000);
+  EXPECT_NE(message(huge).find("share a scale"), std::string::npos) << message(huge);
+  // Ten points.
+  PointSet ten(Eigen::Matrix3Xd(source.positions().leftCols(10)));
+  ten.set_normals(source.normals().leftCols(10));
+  EXPECT_NE(message(ten).find("has 10 samples"), std::string::npos) << message(ten);
+}
+
+}  // namespace
+}  // namespace scanfill

@@ -1,0 +1,112 @@
+// synthesize -> align -> transfer on constructed inputs with known answers (issue 4).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "nodes/align/align.h"
+#include "nodes/procedural/shapes.h"
+#include "nodes/synthesize/synthesize.h"
+#include "nodes/transfer/transfer.h"
+
+namespace scanfill {
+namespace {
+
+// A grid of n x n points in z = 0 with spacing h, offset by (x0, 0, z).
+PointSet grid(int n, double h, double x0, double z) {
+  Eigen::Matrix3Xd p(3, n * n), nn(3, n * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      p.col(i * n + j) = Eigen::Vector3d(x0 + i * h, j * h, z);
+      nn.col(i * n + j) = Eigen::Vector3d::UnitZ();
+    }
+  PointSet out(p);
+  out.set_normals(nn);
+  return out;
+}
+
+// Two flat patches side by side whose heights differ: eq. 10 closes the step between them while each stays flat.
+TEST(Align, ClosesTheSeamBetweenTwoPatchesAndKeepsEachFlat) {
+  const double h = 0.01;
+  const PointSet a = grid(20, h, 0.0, 0.0), b = grid(20, h, 0.2, 0.004);
+  Synthesis s;
+  Eigen::Matrix3Xd p(3, a.size() + b.size()), n(3, a.size() + b.size());
+  p << a.positions(), b.positions();
+  n << a.normals(), b.normals();
+  s.points = PointSet(p);
+  s.points.set_normals(n);
+  for (Index i = 0; i < p.cols(); ++i) {
+    const bool second = i >= a.size();
+    s.origin.push_back(Origin::kSynthesized);
+    s.label.push_back(second ? 1 : 0);
+    s.patch.push_back(second ? 1 : 0);
+    s.base.push_back(std::int32_t(i));
+    s.ring.push_back(0);
+  }
+  s.patches = {{0, Origin::kSynthesized, false, {}}, {1, Origin::kSynthesized, false, {}}};
+  const AlignResult r = align(s, h, {});
+  EXPECT_GT(r.seam_pairs, 0);
+  EXPECT_GT(r.gap_before, 0.003);
+  EXPECT_LT(r.gap_after, 0.1 * r.gap_before);
+  // Each patch moves (nearly) as one piece: the spread of offsets inside a patch is small against the step.
+  for (int patch = 0; patch < 2; ++patch) {
+    double lo = 1e9, hi = -1e9;
+    for (Index i = 0; i < p.cols(); ++i)
+      if (s.patch[size_t(i)] == patch) {
+        lo = std::min(lo, r.offset[size_t(i)]);
+        hi = std::max(hi, r.offset[size_t(i)]);
+      }
+    EXPECT_LT(hi - lo, 0.002) << "patch " << patch;
+  }
+}
+
+// Synthesis with one translation: the exemplar's image lands on the region of the target labelled with it, and the
+// transfer carries every original point and triangle.
+TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
+  // Target: two unit squares side by side (x in [0, 1] and [1.5, 2.5]); source = exemplar = the first square.
+  const PointSet square = make_plane(1.0, 40);  // centred at the origin
+  const Similarity to_first{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1};
+  const Similarity to_second{Eigen::Matrix3d::Identity(), Eigen::Vector3d(2.0, 0.5, 0), 1};
+  const PointSet first = transformed(square, to_first), both = merged(first, transformed(square, to_second));
+  const auto samples = [](const PointSet& mesh, double h) {
+    // Grid samples of the mesh's vertices every other one: enough for a known answer.
+    std::vector<std::int32_t> keep;
+    for (Index i = 0; i < mesh.size(); i += 2) keep.push_back(std::int32_t(i));
+    PointSet s = subset(mesh, keep);
+    s.set_normals(Eigen::Matrix3Xd::Zero(3, s.size()).colwise() + Eigen::Vector3d::UnitZ());
+    (void)h;
+    return s;
+  };
+  PointSet first_n = first;
+  first_n.set_normals(Eigen::Matrix3Xd::Zero(3, first.size()).colwise() + Eigen::Vector3d::UnitZ());
+  const PointSet E = samples(first_n, 0), S = E, T = samples(both, 0);
+  const double alpha = 1.0 / 40 * std::sqrt(2.0);
+  // Labels: target samples of the second square take label 0 (Q: target -> source = translation by -1.5 in x), the
+  // first square label 1 (identity).
+  std::vector<int> labels;
+  for (Index t = 0; t < T.size(); ++t) labels.push_back(T.positions()(0, t) > 1.25 ? 0 : 1);
+  const std::vector<Similarity> transforms{Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(-1.5, 0, 0), 1},
+                                           Similarity{}};
+  std::vector<std::int32_t> exemplar_source(size_t(E.size()));
+  for (Index e = 0; e < E.size(); ++e) exemplar_source[size_t(e)] = std::int32_t(e);
+  SynthesisOptions so;
+  so.refine_iterations = 0;
+  const Synthesis syn = synthesize({E, Similarity{}, exemplar_source, S, T, labels, 2, transforms, nullptr}, alpha, so);
+  EXPECT_EQ(syn.gap_copies, 0);
+  Index in_second = 0;
+  for (Index i = 0; i < syn.points.size(); ++i)
+    if (syn.label[size_t(i)] == 0) {
+      EXPECT_GT(syn.points.positions()(0, i), 1.4);
+      ++in_second;
+    }
+  EXPECT_GE(in_second, E.size() * 9 / 10);
+  const AlignResult al = align(syn, alpha, {});
+  const TransferResult out = transfer({first_n, E, both, T, Similarity{}, syn, al, Similarity{}});
+  // Both squares at full resolution: every exemplar vertex twice (ring overlaps thinned), triangles carried.
+  EXPECT_GE(out.points.size(), 2 * first.size() * 95 / 100);
+  EXPECT_LE(out.points.size(), 2 * first.size() * 115 / 100);
+  EXPECT_GE(out.points.faces().cols(), 2 * first.faces().cols() * 90 / 100);
+  out.points.check();
+}
+
+}  // namespace
+}  // namespace scanfill
