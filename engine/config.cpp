@@ -14,6 +14,7 @@ namespace scanfill {
 namespace {
 
 constexpr const char* kProcedural = "procedural:";
+constexpr const char* kRevolution = "revolution:";
 
 std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
   std::string out;
@@ -296,11 +297,15 @@ RunConfig load_config(const std::filesystem::path& path) {
           problems.add(it->second.Mark(), key, "expected a file path or procedural:NAME, got " + describe(it->second));
           continue;
         }
-        if (spec.text.rfind(kProcedural, 0) == 0)
-          spec.procedural = spec.text.substr(std::string(kProcedural).size());
+        std::string file = spec.text;
+        if (file.rfind(kRevolution, 0) == 0) {
+          spec.revolution = true;
+          file = file.substr(std::string(kRevolution).size());
+        }
+        if (file.rfind(kProcedural, 0) == 0)
+          spec.procedural = file.substr(std::string(kProcedural).size());
         else
-          spec.path =
-              std::filesystem::path(spec.text).is_absolute() ? std::filesystem::path(spec.text) : base / spec.text;
+          spec.path = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
         config.inputs.push_back(spec);
       }
       std::stable_sort(config.inputs.begin(), config.inputs.end(), [&](const InputSpec& a, const InputSpec& b) {
@@ -338,7 +343,8 @@ std::string default_config_yaml() {
     << "mode: completion            # " << join(mode_names(), " | ") << "\n"
     << "inputs:                     # completion: scan, template; transfer: source, target, exemplar;\n"
     << "                            # analogy: source, target. A file (.ply .pcd .obj .off .stl .xyz)\n"
-    << "                            # or procedural:NAME (" << join(shape_names()) << ")\n"
+    << "                            # or procedural:NAME (" << join(shape_names()) << "),\n"
+    << "                            # or revolution:FILE (the body of revolution about z of a model: a template)\n"
     << "  scan: procedural:vase\n"
     << "  template: procedural:vase_template\n"
     << "output:\n"

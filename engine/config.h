@@ -30,6 +30,7 @@ struct InputSpec {
   std::string text;            // as written in the config
   std::filesystem::path path;  // resolved against the config file's folder (empty for procedural inputs)
   std::string procedural;      // shape name for "procedural:NAME"
+  bool revolution = false;     // "revolution:PATH": the body of revolution about z of the model at PATH (a template)
 };
 
 // Replaces the scan input (completion) by a single-view virtual range scan of it: the paper's synthetic scanner, so

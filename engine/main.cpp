@@ -100,10 +100,15 @@ int run_sample(const std::string& input, const std::string& output, double spaci
 PointSet load_shape(const std::string& text) {
   InputSpec spec;
   spec.text = text;
-  if (text.rfind("procedural:", 0) == 0)
-    spec.procedural = text.substr(11);
+  std::string file = text;
+  if (file.rfind("revolution:", 0) == 0) {
+    spec.revolution = true;
+    file = file.substr(11);
+  }
+  if (file.rfind("procedural:", 0) == 0)
+    spec.procedural = file.substr(11);
   else
-    spec.path = text;
+    spec.path = file;
   LoadResult r = load_input(spec, LoadOptions{});
   for (const auto& w : r.warnings) spdlog::warn("{}", w);
   return r.points;

@@ -98,6 +98,15 @@ double peak_rss_mb() {
 }
 
 LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
+  if (spec.revolution) {
+    InputSpec model = spec;
+    model.revolution = false;
+    LoadResult r = load_input(model, options);
+    r.points = make_revolution(r.points);
+    r.format += " (body of revolution)";
+    r.file_points = r.points.size();
+    return r;
+  }
   if (spec.procedural.empty()) return read_point_set(spec.path, options);
   LoadResult r;
   r.points = make_shape(spec.procedural);

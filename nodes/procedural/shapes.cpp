@@ -258,6 +258,56 @@ PointSet make_bench_template() {
   return table_with_legs(plain_leg, 1.8, {-0.82, 0.0, 0.82});
 }
 
+PointSet make_revolution(const PointSet& model, int rings, int segments) {
+  if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
+  const BoundingBox box = bounding_box(model.positions());
+  const Eigen::Vector2d axis = (box.min.head<2>() + box.max.head<2>()) / 2;
+  const double z0 = box.min.z(), height = box.max.z() - box.min.z();
+  if (!(height > 0)) throw InputError("a body of revolution needs a model with some height along z");
+  std::vector<std::vector<double>> bins(size_t(rings) + 1);
+  for (Index i = 0; i < model.size(); ++i) {
+    const Eigen::Vector3d p = model.positions().col(i);
+    const int b = std::clamp(int(std::lround((p.z() - z0) / height * rings)), 0, rings);
+    bins[size_t(b)].push_back((p.head<2>() - axis).norm());
+  }
+  std::vector<double> radius(size_t(rings) + 1, -1);
+  for (size_t b = 0; b < bins.size(); ++b)
+    if (!bins[b].empty()) {
+      auto mid = bins[b].begin() + std::ptrdiff_t(bins[b].size() / 2);
+      std::nth_element(bins[b].begin(), mid, bins[b].end());
+      radius[b] = *mid;
+    }
+  // Fill empty bins from their neighbours, then smooth with a 5-bin moving average.
+  for (size_t b = 0; b < radius.size(); ++b)
+    if (radius[b] < 0) {
+      size_t l = b, r = b;
+      while (l > 0 && radius[l] < 0) --l;
+      while (r + 1 < radius.size() && radius[r] < 0) ++r;
+      radius[b] = radius[l] >= 0 ? radius[l] : radius[r];
+    }
+  std::vector<double> smooth(radius.size());
+  for (size_t b = 0; b < radius.size(); ++b) {
+    double sum = 0;
+    int n = 0;
+    for (int d = -2; d <= 2; ++d) {
+      const long k = long(b) + d;
+      if (k >= 0 && k < long(radius.size())) {
+        sum += radius[size_t(k)];
+        ++n;
+      }
+    }
+    smooth[b] = sum / n;
+  }
+  MeshBuilder m;
+  m.grid(
+      [&](double s, double t) {
+        const double phi = 2 * M_PI * s, r = smooth[size_t(std::lround(t * rings))];
+        return Eigen::Vector3d(axis.x() + r * std::cos(phi), axis.y() + r * std::sin(phi), z0 + t * height);
+      },
+      segments, rings, true);
+  return m.build();
+}
+
 const std::vector<std::string>& shape_names() {
   static const std::vector<std::string> names{
       "plane",  "sphere",          "cylinder", "blob",          "box",   "box_l",          "vase",  "vase_template",

@@ -51,6 +51,11 @@ PointSet make_table_template();
 PointSet make_bench();
 PointSet make_bench_template();
 
+// The body of revolution about the vertical axis (z, through the centre of the bounding box in x and y) that best
+// fits a model: per height, the median distance of its points from the axis, smoothed; an open tube from the lowest
+// to the highest point. The plain structural template of a vase-like scan (relief, beads and handles averaged away).
+PointSet make_revolution(const PointSet& model, int rings = 128, int segments = 256);
+
 // The mesh moved by q (faces kept), and two meshes as one.
 PointSet transformed(const PointSet& mesh, const Similarity& q);
 PointSet merged(const PointSet& a, const PointSet& b);
