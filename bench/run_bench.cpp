@@ -18,7 +18,24 @@ void BM_Run(benchmark::State& state, const std::string& config_name) {
   std::filesystem::remove_all(config.output_dir);
   state.counters["peak_rss_mb"] = peak_rss_mb();
 }
-BENCHMARK_CAPTURE(BM_Run, vase, std::string("vase.yaml"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Run, vase, std::string("vase.yaml"))
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Run, vase_40k, std::string("vase_40k.yaml"))
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Run, furniture_transfer, std::string("furniture_transfer.yaml"))
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace scanfill

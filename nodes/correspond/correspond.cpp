@@ -287,11 +287,14 @@ class Deformation {
                                &params_[size_t(b.node[0]) * 12], &params_[size_t(b.node[1]) * 12],
                                &params_[size_t(b.node[2]) * 12], &params_[size_t(b.node[3]) * 12]);
     };
-    for (size_t e = 0; e < match.size(); ++e) {
+    // A deformation graph of ~150 nodes is fixed by a few thousand data terms: take every stride-th matched sample
+    // (weighted by the stride, so the balance with stiffness does not change).
+    const size_t stride = std::max<size_t>(1, match.size() / size_t(std::max<Index>(1, o.deformation_samples)));
+    for (size_t e = 0; e < match.size(); e += stride) {
       if (match[e] < 0) continue;
       const Eigen::Vector3d n =
           source.has_normals() ? Eigen::Vector3d(source.normals().col(match[e])) : Eigen::Vector3d::Zero();
-      add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, 1.0, 1.0, &huber);
+      add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, double(stride), 1.0, &huber);
     }
     for (const auto& [p, q] : landmarks)
       add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight, 0.0, nullptr);

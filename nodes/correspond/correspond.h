@@ -32,16 +32,17 @@ struct Landmark {
 };
 
 struct CorrespondOptions {
-  bool rigid = true;               // rigid pre-alignment by ICP (inputs are assumed roughly aligned)
-  int rigid_iterations = 40;       // ICP steps; [1, 500]
-  double rigid_trim = 3.0;         // ICP ignores pairs farther than this times the median pair distance; >= 1
-  int outer_iterations = 4;        // assignment / deformation alternations (0 = rigid only); [0, 20]
-  int deformation_nodes = 150;     // embedded-deformation graph nodes; [4, 5000]
-  int node_neighbors = 6;          // graph edges per node; [2, 16]
-  double stiffness = 10.0;         // initial weight of the rotation and smoothness terms; > 0
-  double robust_scale = 2.0;       // Huber scale of the data terms, in alpha; > 0
-  int candidates = 8;              // nearest source samples each exemplar sample may match; [1, 64]
-  double normal_weight = 1.0;      // eq. 1 weight of (1 - n_e . n_s) against the squared distance in alpha; >= 0
+  bool rigid = true;                  // rigid pre-alignment by ICP (inputs are assumed roughly aligned)
+  int rigid_iterations = 40;          // ICP steps; [1, 500]
+  double rigid_trim = 3.0;            // ICP ignores pairs farther than this times the median pair distance; >= 1
+  int outer_iterations = 4;           // assignment / deformation alternations (0 = rigid only); [0, 20]
+  int deformation_nodes = 150;        // embedded-deformation graph nodes; [4, 5000]
+  int node_neighbors = 6;             // graph edges per node; [2, 16]
+  Index deformation_samples = 20000;  // data terms of the deformation solve (every k-th matched sample); >= 100
+  double stiffness = 10.0;            // initial weight of the rotation and smoothness terms; > 0
+  double robust_scale = 2.0;          // Huber scale of the data terms, in alpha; > 0
+  int candidates = 8;                 // nearest source samples each exemplar sample may match; [1, 64]
+  double normal_weight = 1.0;         // eq. 1 weight of (1 - n_e . n_s) against the squared distance in alpha; >= 0
   double escape_distance = 3.0;    // an exemplar sample is left unmatched at the cost of this distance, in alpha; > 0
   int many_to_one = 3;             // exemplar samples a source sample may take; [1, 64]
   double landmark_weight = 100.0;  // weight of a landmark against a data term; > 0

@@ -139,7 +139,9 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       Similarity c;
       Eigen::Vector3d centre;
       double radius = 1;
-      for (const auto& v : slippable_motions(target, labels, int(best), centre, radius)) {
+      const bool search = best_overlap >= ep.cols() / 8;  // a phase search needs a wide overlap to be trusted
+      for (const auto& v : search ? slippable_motions(target, labels, int(best), centre, radius)
+                                  : std::vector<Eigen::Matrix<double, 6, 1>>{}) {
         const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
         if (!(rate > 0)) continue;
         const double step = 0.5 * spacing / rate;
