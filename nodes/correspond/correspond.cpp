@@ -296,8 +296,10 @@ class Deformation {
           source.has_normals() ? Eigen::Vector3d(source.normals().col(match[e])) : Eigen::Vector3d::Zero();
       add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, double(stride), 1.0, &huber);
     }
+    // A landmark outweighs the data terms of a whole node's neighbourhood: it is a constraint, not one more sample.
+    const double per_node_data = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
     for (const auto& [p, q] : landmarks)
-      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight, 0.0, nullptr);
+      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node_data, 0.0, nullptr);
     // Rigidity and smoothness weighted per data term, so stiffness means the same at any sample count.
     const double per_node = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
     for (Index j = 0; j < nodes_.cols(); ++j)

@@ -62,6 +62,36 @@ TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
   EXPECT_EQ(r.exemplar_source.size(), size_t(exemplar.size()));
 }
 
+// A cylinder slides along its axis without any cost to the data terms: only landmarks can say where it belongs.
+TEST(Correspond, LandmarksPinWhatTheGeometryCannot) {
+  const PointSet cyl = make_cylinder(0.3, 1.0, 128);
+  const SampleResult s = sample(cyl, {.count = 5000});
+  const double alpha = s.spacing;
+  const PointSet source = estimate_features(s.samples, {}).points;
+  const Similarity shift{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.05), 1.0};
+  const PointSet exemplar = featured(transformed(cyl, shift), alpha, 5);
+  CorrespondOptions o;
+  o.rigid = false;
+  const auto mean_dz = [&](const CorrespondResult& r) { return (r.deformed.row(2) - r.registered.row(2)).mean(); };
+  const double free_dz = mean_dz(correspond(exemplar, source, alpha, o));
+  for (const double angle : {0.0, 2.1, 4.2})
+    for (const double z : {-0.3, 0.0, 0.3}) {
+      const Eigen::Vector3d on(0.3 * std::cos(angle + z), 0.3 * std::sin(angle + z), z);
+      o.landmarks.push_back({on + shift.translation, on});
+    }
+  const CorrespondResult pinned = correspond(exemplar, source, alpha, o);
+  const double pinned_dz = mean_dz(pinned);
+  // At the landmarks themselves the exemplar moves by the shift.
+  for (const auto& l : o.landmarks) {
+    Index nearest = 0;
+    (pinned.registered.colwise() - l.exemplar).colwise().squaredNorm().minCoeff(&nearest);
+    EXPECT_NEAR(pinned.deformed(2, nearest) - pinned.registered(2, nearest), -0.05, 0.01);
+  }
+  EXPECT_LT(std::abs(free_dz), 0.02) << free_dz;
+  // Away from them the deformation is local (embedded deformation): the whole moves the same way, less far.
+  EXPECT_LT(pinned_dz, free_dz - 0.01) << pinned_dz;
+}
+
 // Brute force over every partial many-to-one assignment: the same optimum as the flow.
 TEST(Correspond, AssignmentIsTheMinCostFlowOptimum) {
   std::mt19937_64 rng(11);
