@@ -139,7 +139,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       Similarity c;
       Eigen::Vector3d centre;
       double radius = 1;
-      const bool search = best_overlap >= ep.cols() / 8;  // a phase search needs a wide overlap to be trusted
+      const bool search = best_overlap >= ep.cols() / 20;  // a phase search needs a wide overlap to be trusted
       for (const auto& v : search ? slippable_motions(target, labels, int(best), centre, radius)
                                   : std::vector<Eigen::Matrix<double, 6, 1>>{}) {
         const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
