@@ -50,7 +50,7 @@ ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const Mod
     Index support = 0;
     for (int it = 0; it < o.max_iterations; ++it) {
       flann::Matrix<double> q(x.data(), 1, 13);
-      index.radiusSearch(q, idx, dist, radius2, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, true));
+      index.radiusSearch(q, idx, dist, radius2, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, false));
       support = Index(idx[0].size());
       if (support == 0) break;
       Vec mean = Vec::Zero();
@@ -78,7 +78,7 @@ ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const Mod
     std::vector<std::vector<double>> dist;
     Vec xq = x;
     flann::Matrix<double> q(xq.data(), 1, 13);
-    index.radiusSearch(q, idx, dist, radius2, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, true));
+    index.radiusSearch(q, idx, dist, radius2, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, false));
     mode.votes = Index(idx[0].size());
     for (const size_t j : idx[0]) mode.voters.push_back(votes.voter[j]);
     std::sort(mode.voters.begin(), mode.voters.end());
