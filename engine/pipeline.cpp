@@ -346,9 +346,15 @@ RunOutcome run_pipeline(const RunConfig& config) {
   std::vector<flow::function_node<LoadedPtr, SampledPtr>*> sample_nodes(specs.size());
   std::vector<flow::function_node<SampledPtr, FeaturedPtr>*> feature_nodes(specs.size());
   std::vector<flow::function_node<flow::continue_msg, LoadedPtr>*> load_nodes(specs.size());
-  auto sample_body = [&](const InputSpec& spec, const LoadedPtr& in, double spacing) {
+  // `ref_load`: the reference input, whose spacing this one takes; both must share a scale (paper section 3), checked
+  // before sampling at a spacing that would mean nothing.
+  auto sample_body = [&](const InputSpec& spec, const LoadedPtr& in, double spacing, const LoadResult* ref_load) {
     const std::string name = "sample:" + spec.role;
     return run_node(state, name, subject_of(spec), [&](const ProgressFn& progress) {
+      if (ref_load)
+        check_shared_scale("the " + spec.role, bounding_box(in->load.points.positions()).diagonal(),
+                           "the " + specs[reference].role, bounding_box(ref_load->points.positions()).diagonal(),
+                           config.correspond.max_scale_ratio);
       SampleOptions options = config.sample;
       if (spacing > 0) {
         options.spacing = spacing;
@@ -381,7 +387,7 @@ RunOutcome run_pipeline(const RunConfig& config) {
           });
         });
     auto sample_node = std::make_unique<flow::function_node<LoadedPtr, SampledPtr>>(
-        g, flow::serial, [&, spec](const LoadedPtr& in) { return sample_body(spec, in, 0.0); });
+        g, flow::serial, [&, spec](const LoadedPtr& in) { return sample_body(spec, in, 0.0, nullptr); });
     auto features_node = std::make_unique<flow::function_node<SampledPtr, FeaturedPtr>>(
         g, flow::serial, [&, spec, subject, slot](const SampledPtr& in) {
           const std::string name = "features:" + spec.role;
@@ -418,18 +424,8 @@ RunOutcome run_pipeline(const RunConfig& config) {
     auto join = std::make_unique<SpacingJoin>(g);
     auto at_spacing = std::make_unique<flow::function_node<std::tuple<LoadedPtr, SampledPtr>, SampledPtr>>(
         g, flow::serial, [&, spec](const std::tuple<LoadedPtr, SampledPtr>& in) {
-          // Inputs must share a scale (paper section 3): say so before sampling at a meaningless spacing.
-          const LoadedPtr& loaded = std::get<0>(in);
-          const LoadResult& ref = std::get<1>(in)->loaded->load;
-          const double d = bounding_box(loaded->load.points.positions()).diagonal(),
-                       dr = bounding_box(ref.points.positions()).diagonal(), limit = config.correspond.max_scale_ratio;
-          if (d > limit * dr || dr > limit * d)
-            throw Error("node 'sample:" + spec.role + "' failed on " + subject_of(spec) +
-                        ": inputs must share a scale: its bounding-box diagonal is " + std::to_string(d) + ", the " +
-                        specs[reference].role + "'s is " + std::to_string(dr) + " (more than " + std::to_string(limit) +
-                        "x apart; are the units the same?)");
           const double spacing = config.sample.spacing > 0 ? 0.0 : std::get<1>(in)->sample.spacing;
-          return sample_body(spec, loaded, spacing);
+          return sample_body(spec, std::get<0>(in), spacing, &std::get<1>(in)->loaded->load);
         });
     flow::make_edge(*load_nodes[slot], flow::input_port<0>(*join));
     flow::make_edge(*sample_nodes[reference], flow::input_port<1>(*join));

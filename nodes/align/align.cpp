@@ -61,20 +61,8 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
   KdTree tree;
   tree.build(P);
   const int k = int(std::min<Index>(o.neighbors, n - 1));
-  std::vector<std::int32_t> graph(static_cast<size_t>(n) * size_t(k));
-  std::vector<double> dist2(graph.size());
-  tbb::parallel_for(Index(0), n, [&](Index i) {
-    std::array<std::int32_t, 33> idx;
-    std::array<double, 33> d2;
-    const int got = tree.knn(P.col(i), k + 1, idx.data(), d2.data());
-    int w = 0;
-    for (int a = 0; a < got && w < k; ++a)
-      if (idx[size_t(a)] != i) {
-        graph[size_t(i) * size_t(k) + size_t(w)] = idx[size_t(a)];
-        dist2[size_t(i) * size_t(k) + size_t(w++)] = d2[size_t(a)];
-      }
-    for (; w < k; ++w) graph[size_t(i) * size_t(k) + size_t(w)] = -1;
-  });
+  std::vector<double> dist2;
+  const std::vector<std::int32_t> graph = knn_graph(tree, P, k, &dist2);
 
   const auto fixed = [&](Index i) { return s.origin[size_t(i)] == Origin::kExemplar; };
   const double pair2 = std::pow(o.pair_distance * spacing, 2), cos_limit = 0.5;

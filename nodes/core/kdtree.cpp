@@ -82,6 +82,35 @@ void KdTree::radius(const Eigen::Vector3d& q, double radius, std::vector<Neighbo
   impl_->tree->findNeighbors(collector, q.data(), nanoflann::SearchParams());
 }
 
+void nearest_each(const KdTree& tree, const Eigen::Matrix3Xd& points, std::vector<std::int32_t>& index,
+                  std::vector<double>& distance2) {
+  index.resize(size_t(points.cols()));
+  distance2.resize(size_t(points.cols()));
+  tbb::parallel_for(Index(0), points.cols(),
+                    [&](Index i) { tree.knn(points.col(i), 1, &index[size_t(i)], &distance2[size_t(i)]); });
+}
+
+std::vector<std::int32_t> knn_graph(const KdTree& tree, const Eigen::Matrix3Xd& points, int k,
+                                    std::vector<double>* distance2) {
+  if (k < 0 || k > 64) throw InvariantError("knn_graph: k must lie in [0, 64]");
+  std::vector<std::int32_t> graph(static_cast<size_t>(points.cols()) * size_t(k), -1);
+  if (distance2) distance2->assign(graph.size(), 0.0);
+  if (k == 0) return graph;
+  tbb::parallel_for(Index(0), points.cols(), [&](Index i) {
+    std::int32_t idx[65];
+    double d2[65];
+    const int got = tree.knn(points.col(i), k + 1, idx, d2);
+    int w = 0;
+    for (int a = 0; a < got && w < k; ++a) {
+      if (idx[a] == i) continue;
+      const size_t slot = size_t(i) * size_t(k) + size_t(w++);
+      graph[slot] = idx[a];
+      if (distance2) (*distance2)[slot] = d2[a];
+    }
+  });
+  return graph;
+}
+
 std::vector<Index> morton_order(const Eigen::Matrix3Xd& points) {
   const Index n = points.cols();
   std::vector<Index> order(static_cast<size_t>(n));

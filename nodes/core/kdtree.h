@@ -42,6 +42,15 @@ class KdTree {
   std::unique_ptr<Impl> impl_;
 };
 
+// For every column of `points`, its nearest point in `tree`: index and squared distance (in parallel).
+void nearest_each(const KdTree& tree, const Eigen::Matrix3Xd& points, std::vector<std::int32_t>& index,
+                  std::vector<double>& distance2);
+
+// The kNN graph of the tree's own points: for each point i, its k nearest other points (itself excluded) at
+// [i k, (i + 1) k), nearest first, -1 where fewer exist; `distance2` (optional) gets their squared distances. k <= 64.
+std::vector<std::int32_t> knn_graph(const KdTree& tree, const Eigen::Matrix3Xd& points, int k,
+                                    std::vector<double>* distance2 = nullptr);
+
 // Morton (Z-order) permutation of the points on a 2^21 grid over their bounding box: order[i] is the index of the
 // point that goes to position i. Reordering points this way makes kd-tree queries in index order cache-friendly.
 std::vector<Index> morton_order(const Eigen::Matrix3Xd& points);

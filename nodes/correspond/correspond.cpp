@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -20,13 +19,13 @@ namespace {
 
 constexpr int kNodesPerPoint = 4;  // deformation nodes influencing a point (Sumner et al. use k + 1 = 5 neighbours)
 
-// Nearest source sample of each point (index, squared distance).
-void nearest(const KdTree& tree, const Eigen::Matrix3Xd& points, std::vector<std::int32_t>& index,
-             std::vector<double>& d2) {
-  index.resize(size_t(points.cols()));
-  d2.resize(size_t(points.cols()));
-  tbb::parallel_for(Index(0), points.cols(),
-                    [&](Index i) { tree.knn(points.col(i), 1, &index[size_t(i)], &d2[size_t(i)]); });
+// Share of `points` within `limit` of the tree's points.
+double share_within(const KdTree& tree, const Eigen::Matrix3Xd& points, double limit) {
+  std::vector<std::int32_t> idx;
+  std::vector<double> d2;
+  nearest_each(tree, points, idx, d2);
+  const auto close = std::count_if(d2.begin(), d2.end(), [&](double d) { return d <= limit * limit; });
+  return double(close) / double(d2.size());
 }
 
 double median(std::vector<double> v) {
@@ -48,7 +47,7 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
   Eigen::Matrix3Xd moved(3, from.cols());
   for (int it = 0; it < o.rigid_iterations; ++it) {
     for (Index i = 0; i < from.cols(); ++i) moved.col(i) = q.apply(from.col(i));
-    nearest(tree, moved, idx, d2);
+    nearest_each(tree, moved, idx, d2);
     const double limit = o.rigid_trim * o.rigid_trim * std::max(median(d2), 1e-300);
     std::vector<Index> keep;
     keep.reserve(idx.size());
@@ -64,7 +63,7 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
       const Index i = keep[j];
       a.col(Index(j)) = moved.col(i);
       b.col(Index(j)) = source.positions().col(idx[size_t(i)]);
-      n.col(Index(j)) = source.normals().col(idx[size_t(i)]);
+      if (source.has_normals()) n.col(Index(j)) = source.normals().col(idx[size_t(i)]);
       sum += d2[size_t(i)];
     }
     rms = std::sqrt(sum / double(keep.size()));
@@ -267,8 +266,6 @@ class Deformation {
     }
   }
 
-  Index nodes() const { return nodes_.cols(); }
-
   Binding bind(const Eigen::Vector3d& p) const {
     std::array<std::int32_t, kNodesPerPoint + 1> idx;
     std::array<double, kNodesPerPoint + 1> d2;
@@ -320,12 +317,11 @@ class Deformation {
           source.has_normals() ? Eigen::Vector3d(source.normals().col(match[e])) : Eigen::Vector3d::Zero();
       add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, double(stride), 1.0, &huber);
     }
-    // A landmark outweighs the data terms of a whole node's neighbourhood: it is a constraint, not one more sample.
-    const double per_node_data = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
-    for (const auto& [p, q] : landmarks)
-      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node_data, 0.0, nullptr);
-    // Rigidity and smoothness weighted per data term, so stiffness means the same at any sample count.
+    // Data terms per node: rigidity and smoothness are weighted by it, so stiffness means the same at any sample
+    // count, and a landmark outweighs a whole node's data terms (a constraint, not one more sample).
     const double per_node = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
+    for (const auto& [p, q] : landmarks)
+      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node, 0.0, nullptr);
     for (Index j = 0; j < nodes_.cols(); ++j)
       problem.AddResidualBlock(
           new ceres::AutoDiffCostFunction<RotationCost, 6, 12>(new RotationCost{std::sqrt(stiffness * per_node)}),
@@ -364,23 +360,17 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   if (source.size() < o.min_samples)
     throw InputError("the source (template) has " + std::to_string(source.size()) + " samples; at least " +
                      std::to_string(o.min_samples) + " are needed");
-  const double de = bounding_box(exemplar.positions()).diagonal(), ds = bounding_box(source.positions()).diagonal();
-  if (de > o.max_scale_ratio * ds || ds > o.max_scale_ratio * de)
-    throw InputError("the exemplar's bounding-box diagonal (" + std::to_string(de) + ") and the source's (" +
-                     std::to_string(ds) + ") differ by more than " + std::to_string(o.max_scale_ratio) +
-                     "x: inputs must share a scale (are the units the same?)");
+  const double ds = bounding_box(source.positions()).diagonal();
+  check_shared_scale("the exemplar (scan)", bounding_box(exemplar.positions()).diagonal(), "the source (template)", ds,
+                     o.max_scale_ratio);
   KdTree tree;
   tree.build(source.positions());
 
   // Roughly aligned inputs (paper section 3) overlap before any registration: ICP from a pose that shares nothing
   // with the template would only find some arbitrary local fit.
   {
-    std::vector<std::int32_t> idx;
-    std::vector<double> d2;
-    nearest(tree, exemplar.positions(), idx, d2);
     const double loose = std::max(o.escape_distance * spacing, 0.1 * ds);
-    const auto close = std::count_if(d2.begin(), d2.end(), [&](double d) { return d <= loose * loose; });
-    const double share = double(close) / double(d2.size());
+    const double share = share_within(tree, exemplar.positions(), loose);
     if (share < o.min_overlap)
       throw InputError("the exemplar (scan) and the source (template) do not overlap: only " +
                        std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
@@ -398,12 +388,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     normals.col(i) = exemplar.has_normals() ? r.rigid.apply_normal(exemplar.normals().col(i)) : Eigen::Vector3d::Zero();
   }
   {
-    std::vector<std::int32_t> idx;
-    std::vector<double> d2;
-    nearest(tree, r.registered, idx, d2);
-    const double limit = std::pow(o.escape_distance * spacing, 2);
-    const auto close = std::count_if(d2.begin(), d2.end(), [&](double d) { return d <= limit; });
-    const double share = double(close) / double(d2.size());
+    const double share = share_within(tree, r.registered, o.escape_distance * spacing);
     if (share < o.min_overlap)
       throw InputError("the exemplar (scan) and the source (template) do not overlap: after rigid registration only " +
                        std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
@@ -487,6 +472,14 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   return r;
 }
 
+void check_shared_scale(const std::string& name_a, double diagonal_a, const std::string& name_b, double diagonal_b,
+                        double max_ratio) {
+  if (diagonal_a <= max_ratio * diagonal_b && diagonal_b <= max_ratio * diagonal_a) return;
+  throw InputError("inputs must share a scale: the bounding-box diagonal of " + name_a + " is " +
+                   std::to_string(diagonal_a) + ", of " + name_b + " " + std::to_string(diagonal_b) + " (more than " +
+                   std::to_string(max_ratio) + "x apart; are the units the same?)");
+}
+
 Index assign_samples(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals, const PointSet& source,
                      double spacing, const CorrespondOptions& options, std::vector<std::int32_t>& match,
                      std::int64_t* cost) {
@@ -500,15 +493,11 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
   if (points.cols() == 0) return out;
   KdTree tree;
   tree.build(points);
-  std::vector<std::uint8_t> hit(size_t(source.size()), 0);
-  tbb::parallel_for(Index(0), source.size(), [&](Index s) {
-    std::int32_t i;
-    double d2;
-    tree.knn(source.positions().col(s), 1, &i, &d2);
-    hit[size_t(s)] = d2 <= distance * distance;
-  });
+  std::vector<std::int32_t> idx;
+  std::vector<double> d2;
+  nearest_each(tree, source.positions(), idx, d2);
   for (Index s = 0; s < source.size(); ++s)
-    if (hit[size_t(s)]) out.push_back(std::int32_t(s));
+    if (d2[size_t(s)] <= distance * distance) out.push_back(std::int32_t(s));
   return out;
 }
 

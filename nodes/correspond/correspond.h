@@ -66,6 +66,11 @@ struct CorrespondResult {
   std::vector<std::string> warnings;
 };
 
+// Throws InputError unless two inputs' bounding-box diagonals lie within max_ratio of each other (paper section 3:
+// inputs share a scale). name_a and name_b say which inputs they are ("the exemplar (scan)").
+void check_shared_scale(const std::string& name_a, double diagonal_a, const std::string& name_b, double diagonal_b,
+                        double max_ratio);
+
 // exemplar and source: samples with normals, at the same spacing alpha.
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
                             const CorrespondOptions& options, const ProgressFn& progress = {});

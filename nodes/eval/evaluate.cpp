@@ -104,17 +104,13 @@ PointSet template_blend(const PointSet& scan, const PointSet& template_shape, do
                          : template_shape;
   KdTree tree;
   tree.build(scan.positions());
-  std::vector<std::uint8_t> far(size_t(t.size()), 0);
-  tbb::parallel_for(Index(0), t.size(), [&](Index i) {
-    std::int32_t j;
-    double d2;
-    tree.knn(t.positions().col(i), 1, &j, &d2);
-    far[size_t(i)] = d2 > gap * gap;
-  });
+  std::vector<std::int32_t> nearest;
+  std::vector<double> d2;
+  nearest_each(tree, t.positions(), nearest, d2);
   std::vector<Eigen::Vector3d> p;
   for (Index i = 0; i < scan.size(); ++i) p.push_back(scan.positions().col(i));
   for (Index i = 0; i < t.size(); ++i)
-    if (far[size_t(i)]) p.push_back(t.positions().col(i));
+    if (d2[size_t(i)] > gap * gap) p.push_back(t.positions().col(i));
   Eigen::Matrix3Xd P(3, Index(p.size()));
   for (size_t i = 0; i < p.size(); ++i) P.col(Index(i)) = p[i];
   return PointSet(std::move(P));

@@ -63,14 +63,8 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
   KdTree source_tree, target_tree;
   source_tree.build(source.positions());
   target_tree.build(target.positions());
-  const int k = std::min<int>(o.graph_k, int(target.size()) - 1);
-  std::vector<std::int32_t> graph(static_cast<size_t>(target.size()) * size_t(std::max(k, 0)));
-  tbb::parallel_for(Index(0), target.size(), [&](Index t) {
-    std::int32_t idx[65];
-    double d2[65];
-    target_tree.knn(target.positions().col(t), k + 1, idx, d2);
-    for (int a = 0; a < k; ++a) graph[size_t(t) * size_t(k) + size_t(a)] = idx[a + 1];
-  });
+  const int k = std::max(0, std::min<int>(o.graph_k, int(target.size()) - 1));
+  const std::vector<std::int32_t> graph = knn_graph(target_tree, target.positions(), k);
   const double fine = o.distance * spacing;
   const Context c{source, target, source_tree, graph, k, fine, std::cos(o.normal_angle_deg * M_PI / 180)};
 

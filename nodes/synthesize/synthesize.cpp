@@ -31,8 +31,9 @@ struct Builder {
 };
 
 // The rigid motions along which the target region slides on itself (Gelfand and Guibas 2004, slippage analysis): the
-// eigenvectors of the point-to-plane Hessian with eigenvalues below `ratio` times the largest, as (w, tau) 6-vectors
-// about `centre`, with positions in units of the region's RMS radius so that rotations and translations compare.
+// eigenvectors of the point-to-plane Hessian with eigenvalues below 2% of the largest (at most two), as (w, tau)
+// 6-vectors about `centre`, with positions in units of the region's RMS radius so that rotations and translations
+// compare.
 std::vector<Eigen::Matrix<double, 6, 1>> slippable_motions(const PointSet& target, const std::vector<int>& labels,
                                                            int label, Eigen::Vector3d& centre, double& radius) {
   centre.setZero();
@@ -139,9 +140,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       Similarity c;
       Eigen::Vector3d centre;
       double radius = 1;
-      const bool search = best_overlap >= ep.cols() / 20;  // a phase search needs a wide overlap to be trusted
-      for (const auto& v : search ? slippable_motions(target, labels, int(best), centre, radius)
-                                  : std::vector<Eigen::Matrix<double, 6, 1>>{}) {
+      for (const auto& v : slippable_motions(target, labels, int(best), centre, radius)) {
         const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
         if (!(rate > 0)) continue;
         const double step = 0.5 * spacing / rate;
@@ -234,15 +233,8 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
 
   KdTree target_tree;
   target_tree.build(T.positions());
-  const int k = int(std::min<Index>(o.ring_k, T.size() - 1));
-  std::vector<std::int32_t> graph(static_cast<size_t>(T.size()) * size_t(std::max(k, 0)));
-  if (k > 0)
-    tbb::parallel_for(Index(0), T.size(), [&](Index t) {
-      std::array<std::int32_t, 33> idx;
-      std::array<double, 33> d2;
-      target_tree.knn(T.positions().col(t), k + 1, idx.data(), d2.data());
-      for (int a = 0; a < k; ++a) graph[size_t(t) * size_t(k) + size_t(a)] = idx[size_t(a) + 1];
-    });
+  const int k = int(std::max<Index>(0, std::min<Index>(o.ring_k, T.size() - 1)));
+  const std::vector<std::int32_t> graph = knn_graph(target_tree, T.positions(), k);
 
   // Transform labels: the exemplar carried by Q_l^-1 into region l and its ring, after refinement.
   std::vector<Similarity> inverse;
@@ -256,12 +248,8 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   const double reach2 = std::pow(o.reach * spacing, 2);
   std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
   for (int l = 0; l < int(in.transforms.size()); ++l) {
-    bool any = false;
-    for (Index t = 0; t < T.size(); ++t) {
-      member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
-      any = any || member[size_t(t)] == 2;
-    }
-    if (!any) continue;
+    if (region_size[size_t(l)] == 0) continue;
+    for (Index t = 0; t < T.size(); ++t) member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
     for (Index t = 0; t < T.size(); ++t) {
       if (member[size_t(t)] != 0 || covered(t)) continue;
       for (int a = 0; a < k; ++a)
@@ -298,12 +286,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     KdTree tree;
     tree.build(synthesized);
     const double gap2 = std::pow(o.gap_distance * spacing, 2);
-    tbb::parallel_for(Index(0), T.size(), [&](Index t) {
-      std::int32_t i;
-      double d2;
-      tree.knn(T.positions().col(t), 1, &i, &d2);
-      reached[size_t(t)] = d2 <= gap2;
-    });
+    std::vector<std::int32_t> nearest;
+    std::vector<double> d2;
+    nearest_each(tree, T.positions(), nearest, d2);
+    for (Index t = 0; t < T.size(); ++t) reached[size_t(t)] = d2[size_t(t)] <= gap2;
   }
   for (Index t = 0; t < T.size(); ++t) {
     if (covered(t)) continue;

@@ -26,11 +26,9 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   const auto nearest_samples = [](const PointSet& full, const PointSet& samples) {
     KdTree tree;
     tree.build(samples.positions());
-    std::vector<std::int32_t> nearest(size_t(full.size()));
-    tbb::parallel_for(Index(0), full.size(), [&](Index i) {
-      double d2;
-      tree.knn(full.positions().col(i), 1, &nearest[size_t(i)], &d2);
-    });
+    std::vector<std::int32_t> nearest;
+    std::vector<double> d2;
+    nearest_each(tree, full.positions(), nearest, d2);
     return nearest;
   };
   bool need_exemplar = false, need_target = false;
