@@ -3,6 +3,7 @@
 
 #include <tbb/global_control.h>
 
+#include <chrono>
 #include <map>
 
 #include "nodes/core/kdtree.h"
@@ -15,6 +16,20 @@ namespace scanfill::bench {
 inline PointSet vase_cloud(Index n) {
   return PointSet(random_surface_points(make_vase(), n, 42).positions());
 }
+
+// Wall-clock laps inside a timed loop (per-stage counters).
+class Stopwatch {
+ public:
+  double lap_ms() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 // Cached per size: set-up stays outside the timed loops.
 inline const PointSet& cached_cloud(Index n) {

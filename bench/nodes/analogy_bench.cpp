@@ -40,20 +40,32 @@ void BM_Analogy(benchmark::State& state) {
   vo.allow_scale = false;
   SupportOptions so;
   so.allow_scale = false;
-  Index labels_used = 0;
+  Index labels_used = 0, mode_count = 0, transform_count = 0;
+  double stage_ms[4] = {0, 0, 0, 0};  // vote, modes, support, label: summed over iterations
   for (auto _ : state) {
+    bench::Stopwatch clock;
     const VoteResult votes = vote(in.source, in.target, in.spacing, vo);
+    stage_ms[0] += clock.lap_ms();
     const ModesResult modes = find_modes(votes, vo, {});
+    stage_ms[1] += clock.lap_ms();
     const SupportResult support =
         grow_supports(in.source, in.target, modes.modes, in.spacing, mode_accuracy(votes, vo, {}), so);
+    stage_ms[2] += clock.lap_ms();
     const LabelResult labels = label_target(in.source, in.target, support.transforms, in.spacing, {});
+    stage_ms[3] += clock.lap_ms();
+    mode_count = Index(modes.modes.size());
+    transform_count = Index(support.transforms.size());
     std::vector<std::uint8_t> used(support.transforms.size() + 1, 0);
     for (int l : labels.labels) used[size_t(l)] = 1;
     labels_used = std::count(used.begin(), used.end(), 1);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
   state.counters["labels_used"] = double(labels_used);
+  state.counters["modes"] = double(mode_count);
+  state.counters["transforms"] = double(transform_count);
   state.counters["source_samples"] = double(in.source.size());
+  const char* names[4] = {"vote_ms", "modes_ms", "support_ms", "label_ms"};
+  for (int i = 0; i < 4; ++i) state.counters[names[i]] = stage_ms[i] / double(state.iterations());
 }
 BENCHMARK(BM_Analogy)
     ->ArgsProduct({{10000, 50000, 200000}, {1, 2}})
