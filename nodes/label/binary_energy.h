@@ -1,24 +1,21 @@
 // A submodular binary energy E(x) = constant + sum_v U_v(x_v) + sum_uv P_uv(x_u, x_v), x in {0, 1}, minimised exactly
-// by one s-t minimum cut (Kolmogorov and Zabih 2004), with Boost.Graph's Boykov-Kolmogorov max-flow (Boost licence;
-// Debian's libmaxflow is GPL-3 and is not used). This is the move solver of the alpha-expansion in expansion.h.
+// by one s-t minimum cut (Kolmogorov and Zabih 2004), with our Boykov-Kolmogorov max-flow (max_flow.h). This is the
+// move solver of the alpha-expansion in expansion.h.
 //
-// Costly set-up becomes a class with build-then-solve (CONVENTIONS): reset() keeps the term buffers' capacity across
-// the many expansion moves of one labelling.
+// Costly set-up becomes a class with build-then-solve (CONVENTIONS): reset() keeps the term buffers' and the flow
+// graph's capacity across the many expansion moves of one labelling.
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "nodes/core/point_set.h"
+#include "nodes/label/max_flow.h"
 
 namespace scanfill {
 
 class BinaryEnergy {
  public:
-  BinaryEnergy();
-  ~BinaryEnergy();
-
   // Clears all terms; keeps allocated storage.
   void reset();
   // Adds a variable and returns its index (0, 1, ...).
@@ -38,13 +35,11 @@ class BinaryEnergy {
   bool value(Index v) const { return value_[size_t(v)] != 0; }
 
  private:
-  struct Edge {
-    std::int32_t u, v;
-    double uv, vu;  // capacities u -> v (cut when x_u = 0, x_v = 1) and v -> u
-  };
   double constant_ = 0;
-  std::vector<double> unary_;  // U_v(1) - U_v(0)
-  std::vector<Edge> edges_;
+  std::vector<double> unary_;          // U_v(1) - U_v(0)
+  std::vector<MaxFlow::Arc> edges_;    // capacity u -> v is paid when x_u = 0, x_v = 1
+  std::vector<double> source_, sink_;  // terminal capacities (scratch of minimize())
+  MaxFlow flow_;
   std::vector<std::uint8_t> value_;
   Index truncated_ = 0;
 };
