@@ -78,8 +78,12 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
   BinaryEnergy move;
   std::vector<std::int32_t> var(size_t(p.sites), -1);  // site -> move variable, -1 if fixed
   std::vector<Index> count(size_t(p.labels), 0);       // sites per label in f
+  for (const int l : f) ++count[size_t(l)];
+  std::vector<std::int32_t> vars, switched;  // reused by every move
+  std::vector<std::int32_t> switchable(size_t(p.labels), 0);
   double energy = result.energy_before;
   const bool costs = !p.label_cost.empty();
+  auto V = [&](Index e, int ls, int lt) { return ls == lt ? 0.0 : p.pairwise(e, ls, lt); };
 
   for (result.cycles = 0; result.cycles < options.max_cycles;) {
     ++result.cycles;
@@ -87,7 +91,7 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
     for (int a = 0; a < p.labels; ++a) {
       if (feasible[size_t(a)].empty()) continue;
       move.reset();
-      std::vector<std::int32_t> vars;
+      vars.clear();
       for (const auto i : feasible[size_t(a)])
         if (f[size_t(i)] != a) {
           var[size_t(i)] = std::int32_t(move.add_variable());
@@ -104,57 +108,73 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
           const bool s_var = var[size_t(s)] >= 0, t_var = var[size_t(t)] >= 0;
           const std::int32_t other = s == i ? t : s;
           if (s_var && t_var && other < i) continue;  // added from the other end
-          auto V = [&](int ls, int lt) { return ls == lt ? 0.0 : p.pairwise(e, ls, lt); };
           const int fs = f[size_t(s)], ft = f[size_t(t)];
           if (s_var && t_var) {
-            move.add_pairwise(var[size_t(s)], var[size_t(t)], V(fs, ft), V(fs, a), V(a, ft), 0.0);
+            move.add_pairwise(var[size_t(s)], var[size_t(t)], V(e, fs, ft), V(e, fs, a), V(e, a, ft), 0.0);
           } else if (s_var) {
-            move.add_unary(var[size_t(s)], V(fs, ft), V(a, ft));
+            move.add_unary(var[size_t(s)], V(e, fs, ft), V(e, a, ft));
           } else {
-            move.add_unary(var[size_t(t)], V(fs, ft), V(fs, a));
+            move.add_unary(var[size_t(t)], V(e, fs, ft), V(e, fs, a));
           }
         }
       }
-      // Label costs. Labels whose sites are not all variables stay used whatever the move does: a constant.
+      // Label costs of the labels the move may empty. Labels whose sites are not all variables stay used whatever
+      // the move does: nothing to model. a's own cost, when a is unused, needs no term either: min over moves of
+      // E(x) + h_a [x != 0] is min(E(0), h_a + min E(x)), which the acceptance test below decides exactly (this
+      // replaces Delong et al.'s auxiliary variable joined to every site, a hub that slows the max-flow badly).
       if (costs) {
-        std::vector<std::int32_t> switchable(size_t(p.labels), 0);
         for (const auto i : vars) ++switchable[size_t(f[size_t(i)])];
-        for (int l = 0; l < p.labels; ++l) {
-          if (l == a || count[size_t(l)] == 0) continue;
+        for (const auto i : vars) {
+          const int l = f[size_t(i)];
+          if (switchable[size_t(l)] <= 0) continue;  // done
+          const bool all = switchable[size_t(l)] == count[size_t(l)];
+          switchable[size_t(l)] = 0;
           const double h = p.label_cost[size_t(l)];
-          if (switchable[size_t(l)] < count[size_t(l)] || h == 0) {
-            move.add_constant(h);
-            continue;
-          }
+          if (!all || h == 0) continue;
           const Index y = move.add_variable();  // y = 1: every site of l switches and h_l is saved
           move.add_unary(y, h, 0.0);
-          for (const auto i : vars)
-            if (f[size_t(i)] == l) move.add_pairwise(y, var[size_t(i)], 0.0, 0.0, h, 0.0);
-        }
-        const double ha = p.label_cost[size_t(a)];
-        if (count[size_t(a)] > 0) {
-          move.add_constant(ha);
-        } else if (ha > 0) {
-          const Index z = move.add_variable();  // z = 1: pay h_a once; z = 0: pay h_a for each switching site
-          move.add_unary(z, 0.0, ha);
-          for (const auto i : vars) move.add_pairwise(z, var[size_t(i)], 0.0, ha, 0.0, 0.0);
+          for (const auto j : vars)
+            if (f[size_t(j)] == l) move.add_pairwise(y, var[size_t(j)], 0.0, 0.0, h, 0.0);
         }
       }
       move.minimize();
       result.truncated_terms += move.truncated();
-      std::vector<int> g = f;
+      // The true energy change of the move (not the truncated one), from the switching sites and their edges.
+      switched.clear();
       for (const auto i : vars)
-        if (move.value(var[size_t(i)])) g[size_t(i)] = a;
+        if (move.value(var[size_t(i)])) switched.push_back(i);
+      double delta = 0;
+      for (const auto i : switched) {
+        delta += unary(p, i, a) - unary(p, i, f[size_t(i)]);
+        var[size_t(i)] = -2;  // marks a switching site
+      }
+      for (const auto i : switched)
+        for (std::int64_t k = inc_offset[size_t(i)]; k < inc_offset[size_t(i) + 1]; ++k) {
+          const Index e = incident[size_t(k)];
+          const auto [s, t] = p.edges[size_t(e)];
+          const std::int32_t other = s == i ? t : s;
+          if (var[size_t(other)] == -2 && other < i) continue;  // counted from the other end
+          const int gs = var[size_t(s)] == -2 ? a : f[size_t(s)], gt = var[size_t(t)] == -2 ? a : f[size_t(t)];
+          delta += V(e, gs, gt) - V(e, f[size_t(s)], f[size_t(t)]);
+        }
+      if (costs && !switched.empty()) {
+        if (count[size_t(a)] == 0) delta += p.label_cost[size_t(a)];
+        for (const auto i : switched) --switchable[size_t(f[size_t(i)])];  // 0 - (sites of l switching)
+        for (const auto i : switched) {
+          const int l = f[size_t(i)];
+          if (switchable[size_t(l)] < 0 && -switchable[size_t(l)] == count[size_t(l)])
+            delta -= p.label_cost[size_t(l)];  // l is emptied
+          switchable[size_t(l)] = 0;
+        }
+      }
       for (const auto i : vars) var[size_t(i)] = -1;
-      const double e_new = labeling_energy(p, g);
-      if (e_new < energy - 1e-12 * std::max(1.0, std::abs(energy))) {
-        for (const auto i : vars)
-          if (g[size_t(i)] != f[size_t(i)]) {
-            --count[size_t(f[size_t(i)])];
-            ++count[size_t(a)];
-          }
-        f.swap(g);
-        energy = e_new;
+      if (!switched.empty() && delta < -1e-12 * std::max(1.0, std::abs(energy))) {
+        for (const auto i : switched) {
+          --count[size_t(f[size_t(i)])];
+          ++count[size_t(a)];
+          f[size_t(i)] = a;
+        }
+        energy += delta;
         changed = true;
         ++result.moves_accepted;
         result.energy_trace.push_back(energy);
@@ -165,8 +185,8 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
       break;
     }
   }
+  result.energy_after = labeling_energy(p, f);  // exact, free of the moves' summed rounding
   result.labeling = std::move(f);
-  result.energy_after = energy;
   return result;
 }
 

@@ -4,12 +4,16 @@
 //   E(f) = sum_i D_i(f_i) + sum_(i,j) V_ij(f_i, f_j) + sum_l h_l [l is used by f]
 //
 // Labels are sparse: site i may take only the labels listed in its unary terms, so an expansion on label a involves
-// only the sites where a is feasible. An expansion move is a binary energy solved by one minimum cut (binary_energy.h):
-// x_i = 1 switches site i to a. Label costs enter through one auxiliary variable per label (Delong et al., section
-// 3.1): for a used label l != a, h_l (1 - y_l) + sum_(i in P_l) h_l y_l (1 - x_i) pays h_l unless every site of l
-// switches; for an unused a, h_a z + sum_i h_a (1 - z) x_i pays h_a once if any site switches. A move is accepted only
-// if it lowers the true energy E (V need not be a metric everywhere: non-submodular move terms are truncated, so a
-// move can be suboptimal, never accepted if worse).
+// only the sites where a is feasible. An expansion move is a binary energy solved by one minimum cut (binary_energy.h,
+// on our Boykov-Kolmogorov max-flow, max_flow.h): x_i = 1 switches site i to a. Label costs (Delong et al., section
+// 3.1): for a used label l != a whose every site may switch, an auxiliary variable y_l with h_l (1 - y_l) +
+// sum_(i in P_l) h_l y_l (1 - x_i) pays h_l unless all of them switch. For an unused a, Delong et al. join an auxiliary
+// z to every site (h_a once if any switches); that hub slows the max-flow several-fold, and it is not needed: the
+// least of E(x) + h_a [x != 0] is min(E(0), h_a + min_x E(x)), so the move is solved without h_a and the acceptance
+// test, which includes h_a, decides exactly. A move is accepted only if it lowers the true energy E, computed locally
+// from the switching sites and their edges (V need not be a metric everywhere: non-submodular move terms are
+// truncated, so a move can be suboptimal, never accepted if worse). All buffers, the flow graph's included, are
+// reused from move to move.
 #pragma once
 
 #include <functional>
