@@ -1,10 +1,10 @@
 #include "nodes/label/label.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "nodes/core/kdtree.h"
 
@@ -101,20 +101,16 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
   });
   // MRF edges: mrf_k nearest neighbours with compatible normals, each pair once.
   const int k = std::min<int>(o.mrf_k, int(n) - 1);
-  std::vector<std::int32_t> knn(static_cast<size_t>(n) * size_t(k + 1));
-  tbb::parallel_for(Index(0), n, [&](Index t) {
-    std::vector<double> d2(size_t(k + 1));
-    target_tree.knn(target.positions().col(t), k + 1, &knn[size_t(t) * size_t(k + 1)], d2.data());
-  });
+  const std::vector<std::int32_t> knn = knn_graph(target_tree, target.positions(), k);  // self excluded, -1 fill
   auto is_neighbor = [&](Index a, Index b) {
-    for (int j = 1; j <= k; ++j)
-      if (knn[size_t(a) * size_t(k + 1) + size_t(j)] == b) return true;
+    for (int j = 0; j < k; ++j)
+      if (knn[size_t(a) * size_t(k) + size_t(j)] == b) return true;
     return false;
   };
   for (Index t = 0; t < n; ++t)
-    for (int j = 1; j <= k; ++j) {
-      const Index u = knn[size_t(t) * size_t(k + 1) + size_t(j)];
-      if (u == t || (u < t && is_neighbor(u, t))) continue;  // listed from the other end
+    for (int j = 0; j < k; ++j) {
+      const Index u = knn[size_t(t) * size_t(k) + size_t(j)];
+      if (u < 0 || (u < t && is_neighbor(u, t))) continue;  // none, or listed from the other end
       if (target.normals().col(t).dot(target.normals().col(u)) < 0.5) continue;
       problem.edges.push_back({std::int32_t(t), std::int32_t(u)});
     }
@@ -149,25 +145,31 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
   result.cycles = r.cycles;
   result.labels = r.labeling;
 
-  // Clean-up on the 5-alpha ring.
+  // Clean-up on the 5-alpha ring. Buffers per chunk of samples, not per sample.
   if (o.cleanup_ring > 0) {
     std::vector<int> cleaned = result.labels;
-    tbb::parallel_for(Index(0), n, [&](Index t) {
+    tbb::parallel_for(tbb::blocked_range<Index>(0, n, 256), [&](const tbb::blocked_range<Index>& range) {
       std::vector<Neighbor> ring;
-      target_tree.radius(target.positions().col(t), o.cleanup_ring * spacing, ring);
-      std::map<int, Index> votes;
-      Index others = 0, total = 0;
-      for (const Neighbor& nb : ring) {
-        if (nb.index == t) continue;
-        ++total;
-        ++votes[result.labels[size_t(nb.index)]];
-        others += result.labels[size_t(nb.index)] != result.labels[size_t(t)];
+      std::vector<Index> votes(size_t(L) + 1, 0);
+      for (Index t = range.begin(); t != range.end(); ++t) {
+        target_tree.radius(target.positions().col(t), o.cleanup_ring * spacing, ring);
+        const int own = result.labels[size_t(t)];
+        Index others = 0, total = 0;
+        for (const Neighbor& nb : ring) {
+          if (nb.index == t) continue;
+          const int l = result.labels[size_t(nb.index)];
+          ++total;
+          ++votes[size_t(l)];
+          others += l != own;
+        }
+        if (total > 0 && double(others) > o.cleanup_majority * double(total)) {
+          int best = 0;  // the ring's majority; ties go to the lower label
+          for (int l = 1; l <= L; ++l)
+            if (votes[size_t(l)] > votes[size_t(best)]) best = l;
+          cleaned[size_t(t)] = best;
+        }
+        for (const Neighbor& nb : ring) votes[size_t(result.labels[size_t(nb.index)])] = 0;
       }
-      if (total == 0 || double(others) <= o.cleanup_majority * double(total)) return;
-      const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) {
-        return a.second < b.second || (a.second == b.second && a.first > b.first);
-      });
-      cleaned[size_t(t)] = best->first;
     });
     for (Index t = 0; t < n; ++t) result.cleaned += cleaned[size_t(t)] != result.labels[size_t(t)];
     result.labels.swap(cleaned);
