@@ -77,10 +77,13 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
     cc.max_distance = std::max(fine, mode_accuracy);
     st.support = grow(cc, st.transform, modes[m].voters);
     for (int it = 0; it < o.icp_iterations && Index(st.support.size()) >= 3; ++it) {
-      Eigen::Matrix3Xd from(3, Index(st.support.size())), to(3, Index(st.support.size())),
-          normals(3, Index(st.support.size()));
+      // Correspondences on an even subsample of the support: 7 parameters need a few thousand.
+      const size_t stride = (st.support.size() + size_t(o.icp_samples) - 1) / size_t(o.icp_samples);
+      const Index cap = Index((st.support.size() + stride - 1) / stride);
+      Eigen::Matrix3Xd from(3, cap), to(3, cap), normals(3, cap);
       Index n = 0;
-      for (const auto t : st.support) {
+      for (size_t i = 0; i < st.support.size(); i += stride) {
+        const std::int32_t t = st.support[i];
         const std::int32_t s = explained(cc, st.transform, t);
         if (s < 0) continue;
         from.col(n) = target.positions().col(t);

@@ -4,8 +4,9 @@
 // agree within `normal_angle_deg` (R n_t . n_s). The support grows from the mode's voters over the target kNN graph,
 // never testing every mode against every sample. A mode is only as accurate as the mean-shift bandwidth allows
 // (`mode_accuracy`, model units), often several alpha at high density, so growth and ICP (point-to-point, then
-// point-to-plane) start at that distance and halve it each step down to `distance` alpha (the label node's sigma_p =
-// 0.1 alpha is far tighter than mean-shift accuracy); the support is then re-grown at `distance` alpha. Transforms that
+// point-to-plane, on an even subsample of at most `icp_samples` of the support) start at that distance and halve it
+// each step down to `distance` alpha, re-growing the support at each (the label node's sigma_p = 0.1 alpha is far
+// tighter than mean-shift accuracy); the support is then re-grown at `distance` alpha. Transforms that
 // explain (nearly) the same samples as a stronger one add nothing to the analogy but labels: the symmetric equivalents
 // of a box or a cylinder, or a part slid along a flat face. They are dropped (`redundant_overlap`), keeping the largest
 // support, then the lowest RMS distance. Transforms whose support falls below `min_support` samples, or that end up
@@ -25,6 +26,7 @@ struct SupportOptions {
   double normal_angle_deg = 30.0;    // and normals agree within this; (0, 180]
   int graph_k = 8;                   // target kNN graph for growing; [2, 64]
   int icp_iterations = 5;            // similarity ICP steps per transform; >= 0
+  Index icp_samples = 4096;          // ICP uses at most this many support samples (an even subsample); >= 3
   Index min_support = 30;            // transforms explaining fewer samples are dropped; >= 1
   bool allow_scale = true;           // refine as similarity (true) or rigid motion
   double duplicate_angle_deg = 2.0;  // transforms closer than this in rotation ...
