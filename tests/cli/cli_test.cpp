@@ -135,6 +135,15 @@ TEST(Cli, EvalPrintsTheContractedScores) {
   EXPECT_NE(half.out.find("--scan and --template go together"), std::string::npos) << half.out;
 }
 
+TEST(Cli, ReadmeListsTheCurrentDefaults) {
+  // The README's config reference is --print-defaults verbatim: an option added without it fails here.
+  test::TempDir dir;
+  ASSERT_EQ(run_scanfill("--print-defaults > " + q(dir / "d.yaml")).exit_code, 0);
+  const std::string readme = test::read_bytes(std::filesystem::path(SCANFILL_SOURCE_DIR) / "README.md");
+  EXPECT_NE(readme.find("```yaml\n" + test::read_bytes(dir / "d.yaml") + "```"), std::string::npos)
+      << "README.md's config block differs from `scanfill --print-defaults`; paste the new output there";
+}
+
 TEST(Cli, SampleWritesTheFixedPropertiesAndIsIdenticalOnOneAndTwoThreads) {
   test::TempDir dir;
   ASSERT_EQ(run_scanfill("--print-defaults > " + q(dir / "d.yaml")).exit_code, 0);
