@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -21,6 +22,9 @@ constexpr Index kBlock = 4096;  // fixed block size: work split never depends on
 
 // Mean NN distance of WSE output is sqrt(kSpacingFactor * A / N); measured on planes and spheres (sample_test).
 constexpr double kSpacingFactor = 0.64;
+
+// Clouds with more than kThinAbove points per requested sample are thinned to about kThinTo per sample first.
+constexpr double kThinAbove = 40, kThinTo = 16;
 
 std::uint64_t splitmix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -117,6 +121,43 @@ double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
   return sum * double(P.cols()) / double(n);
 }
 
+// Indices (ascending, so Morton order is kept) of one point per cell of a grid of spacing h, the one nearest the cell
+// centre; with normals, per cell and normal octant, so the two sides of a part thinner than h both survive.
+std::vector<Index> thin_cloud(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd& normals, double h) {
+  const Index n = P.cols();
+  const Eigen::Vector3d lo = P.rowwise().minCoeff();
+  constexpr std::int64_t kCells = std::int64_t(1) << 20;
+  const bool with_normals = normals.cols() == n;
+  struct Entry {
+    std::int64_t key;
+    double d2;
+    Index index;
+  };
+  std::vector<Entry> entries(static_cast<size_t>(n));
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kBlock), [&](const tbb::blocked_range<Index>& r) {
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      std::int64_t key = 0;
+      double d2 = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double x = (P(a, i) - lo[a]) / h;
+        const std::int64_t c = std::min<std::int64_t>(kCells - 1, std::int64_t(x));
+        d2 += (x - double(c) - 0.5) * (x - double(c) - 0.5);
+        key = key << 20 | c;
+      }
+      if (with_normals) key = key << 3 | (normals(0, i) < 0) | (normals(1, i) < 0) << 1 | (normals(2, i) < 0) << 2;
+      entries[size_t(i)] = {key, d2, i};
+    }
+  });
+  tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.key != b.key ? a.key < b.key : a.d2 != b.d2 ? a.d2 < b.d2 : a.index < b.index;  // a total order
+  });
+  std::vector<Index> kept;
+  for (size_t e = 0; e < entries.size(); ++e)
+    if (e == 0 || entries[e].key != entries[e - 1].key) kept.push_back(entries[e].index);
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
 }  // namespace
 
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed) {
@@ -171,6 +212,26 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     cand.normals = input.normals();
     cand.source =
         input.has_source_index() ? input.source_index() : VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
+    // A cloud far denser than the samples asked for (a 10^6-point scan sampled to 10^4) would give every candidate
+    // hundreds of neighbours within d_max (about 3.6 per point per sample): gigabytes of lists. Above kThinAbove points
+    // per sample it is first thinned on a grid sized for about kThinTo candidates per sample (a surface crosses about
+    // 1.5 A / h^2 cells of side h); sparse regions keep every point.
+    if (double(input.size()) > kThinAbove * double(n_target)) {
+      const double h = std::sqrt(1.5 * result.area / (kThinTo * double(n_target)));
+      const std::vector<Index> kept = thin_cloud(input.positions(), input.normals(), h);
+      if (Index(kept.size()) > n_target) {
+        Candidates thinned;
+        thinned.positions.resize(3, Index(kept.size()));
+        if (cand.normals.cols() == input.size()) thinned.normals.resize(3, Index(kept.size()));
+        thinned.source.resize(Index(kept.size()));
+        for (Index k = 0; k < Index(kept.size()); ++k) {
+          thinned.positions.col(k) = cand.positions.col(kept[size_t(k)]);
+          if (thinned.normals.cols() > 0) thinned.normals.col(k) = cand.normals.col(kept[size_t(k)]);
+          thinned.source[k] = cand.source[kept[size_t(k)]];
+        }
+        cand = std::move(thinned);
+      }
+    }
   }
   report(progress, 0.1);
   const Index m = cand.positions.cols();
@@ -202,9 +263,11 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   // Neighbour lists within d_max with each edge's contribution (CSR), built per fixed block and concatenated. The
   // kd-tree visits neighbours in the same order on any thread count, and nanoflann's squared distance is the same
   // bits for (i, j) and (j, i), so the lists and weights are deterministic and symmetric.
-  KdTree mesh_tree;
-  if (mesh) mesh_tree.build(cand.positions);
-  const KdTree& tree = mesh ? mesh_tree : input_tree;  // a cloud's candidates are its points: reuse its tree
+  // A cloud's candidates are its points (unless thinned): then its tree is reused.
+  const bool own_tree = mesh || cand.positions.cols() != input.size();
+  KdTree candidate_tree;
+  if (own_tree) candidate_tree.build(cand.positions);
+  const KdTree& tree = own_tree ? candidate_tree : input_tree;
   const Index n_blocks = (m + kBlock - 1) / kBlock;
   struct Edge {
     std::int32_t j;

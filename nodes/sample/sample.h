@@ -1,6 +1,8 @@
 // sample node: Poisson-disk sampling by weighted sample elimination (Yuksel 2015; paper section 3; DESIGN section 4).
 //
 // Candidates are the input points of a cloud, or `oversampling` x N area-weighted random points on a mesh's triangles.
+// A cloud with more than 40 N points is first thinned to about 16 N candidates (neighbour lists grow with the ratio):
+// one point per grid cell (and normal octant), the one nearest the cell centre, so sparse regions keep all points.
 // Each candidate i has weight w_i = sum_j (1 - d_ij / d_max)^weight_exponent over neighbours j within d_max = 2 r_max,
 // r_max = sqrt(A / (2 sqrt(3) N)); candidates are eliminated heaviest first, their neighbours' weights updated, until N
 // remain. A neighbour counts only if its normal agrees within normal_angle_deg, so both sides of thin parts survive.

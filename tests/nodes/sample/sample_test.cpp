@@ -106,6 +106,36 @@ TEST(Sample, BothSidesOfAThinSheetSurvive) {
   EXPECT_NEAR(double(upper) / 2000.0, 0.5, 0.05);
 }
 
+TEST(Sample, AVeryDenseCloudIsThinnedFirstAndStillGivesPoissonDiskSamples) {
+  // 300k points on a sphere sampled to 2500 (120 points per sample, like a 10^6-point scan sampled at a template's
+  // spacing): the cloud is thinned before elimination (16 candidates per sample, not 120), the samples keep the
+  // Poisson-disk property, the requested spacing, provenance, and the two sides of a thin sheet.
+  const PointSet sphere = random_surface_points(make_sphere(0.5, 96), 300000, 3);
+  const double area = 4 * M_PI * 0.25, alpha = std::sqrt(0.64 * area / 2500);
+  const SampleResult r = sample(sphere, {.spacing = alpha});
+  EXPECT_LT(r.candidates, 40 * r.samples.size());
+  EXPECT_GT(r.candidates, 8 * r.samples.size());
+  EXPECT_NEAR(r.spacing, alpha, 0.05 * alpha);
+  const auto d = nn_distances(r.samples.positions());
+  EXPECT_GE(min(d), 0.6 * mean(d)) << "min " << min(d) << " mean " << mean(d);
+  for (Index i = 0; i < r.samples.size(); ++i)
+    ASSERT_EQ(r.samples.positions().col(i), sphere.positions().col(r.samples.source_index()(i)));
+
+  // A dense two-sided sheet (0.002 apart, spacing ~0.02) as a cloud with normals: both sides survive the thinning.
+  PointSet top = random_surface_points(make_plane(1.0, 8), 100000, 4);
+  Eigen::Matrix3Xd p(3, 2 * top.size()), n(3, 2 * top.size());
+  p << top.positions(), top.positions();
+  p.block(2, top.size(), 1, top.size()).setConstant(-0.002);
+  n.leftCols(top.size()).colwise() = Eigen::Vector3d::UnitZ();
+  n.rightCols(top.size()).colwise() = -Eigen::Vector3d::UnitZ();
+  PointSet sheet(p);
+  sheet.set_normals(n);
+  const SampleResult two = sample(sheet, {.count = 2000});
+  EXPECT_LT(two.candidates, 40 * 2000);
+  const Index upper = (two.samples.positions().row(2).array() > -0.001).count();
+  EXPECT_NEAR(double(upper) / 2000.0, 0.5, 0.05);
+}
+
 TEST(Sample, SameSeedSameSamplesOnOneAndTwoThreads) {
   const PointSet mesh = make_vase();
   SampleResult one, two;
