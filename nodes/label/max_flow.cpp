@@ -1,11 +1,19 @@
 #include "nodes/label/max_flow.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "nodes/core/errors.h"
 
 namespace scanfill {
+namespace {
+
+bool finite_non_negative(double c) {
+  return std::isfinite(c) && c >= 0;
+}
+
+}  // namespace
 
 void MaxFlow::build(std::int32_t nodes, const std::vector<double>& source, const std::vector<double>& sink,
                     const std::vector<Arc>& arcs) {
@@ -16,7 +24,8 @@ void MaxFlow::build(std::int32_t nodes, const std::vector<double>& source, const
   terminal_.resize(n);
   base_flow_ = 0;
   for (size_t v = 0; v < n; ++v) {
-    if (!(source[v] >= 0) || !(sink[v] >= 0)) throw InvariantError("max flow: negative or undefined capacity");
+    if (!finite_non_negative(source[v]) || !finite_non_negative(sink[v]))
+      throw InvariantError("max flow: a terminal capacity is negative or not finite");
     // s -> v -> t carries min(source, sink) at once; what is left is one terminal arc.
     base_flow_ += std::min(source[v], sink[v]);
     terminal_[v] = source[v] - sink[v];
@@ -25,8 +34,8 @@ void MaxFlow::build(std::int32_t nodes, const std::vector<double>& source, const
   for (const Arc& a : arcs) {
     if (a.from < 0 || a.to < 0 || a.from >= nodes || a.to >= nodes || a.from == a.to)
       throw InvariantError("max flow: arc with an invalid end");
-    if (!(a.capacity >= 0) || !(a.reverse_capacity >= 0))
-      throw InvariantError("max flow: negative or undefined capacity");
+    if (!finite_non_negative(a.capacity) || !finite_non_negative(a.reverse_capacity))
+      throw InvariantError("max flow: an arc capacity is negative or not finite");
     ++first_[size_t(a.from) + 1];
     ++first_[size_t(a.to) + 1];
   }

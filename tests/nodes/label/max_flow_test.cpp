@@ -10,6 +10,8 @@
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #pragma GCC diagnostic pop
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 namespace scanfill {
@@ -146,6 +148,8 @@ TEST(MaxFlow, RefusesBadArcs) {
   EXPECT_THROW(flow.build(2, {1, 0}, {0, 1}, {{0, 2, 1, 0}}), std::exception);
   EXPECT_THROW(flow.build(2, {1, 0}, {0, 1}, {{0, 0, 1, 0}}), std::exception);
   EXPECT_THROW(flow.build(2, {-1, 0}, {0, 1}, {}), std::exception);
+  EXPECT_THROW(flow.build(2, {1, 0}, {0, 1}, {{0, 1, std::numeric_limits<double>::infinity(), 0}}), std::exception);
+  EXPECT_THROW(flow.build(2, {std::nan(""), 0}, {0, 1}, {}), std::exception);
 }
 
 }  // namespace
