@@ -149,9 +149,11 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
         Index start_overlap = 0;
         double start_score = 0;
         int best_step = 0;
-        for (int k = 0; k <= 2 * steps; ++k) {
-          const int i = k == 0 ? 0 : (k % 2 ? (k + 1) / 2 : -(k / 2));  // 0, 1, -1, 2, -2, ...
-          const Similarity trial = motion(v, i * step, centre, radius).compose(c).compose(inv[best]);
+        auto offset = [](int k) { return k == 0 ? 0 : (k % 2 ? (k + 1) / 2 : -(k / 2)); };  // 0, 1, -1, 2, -2, ...
+        // The trials are independent: scored in parallel (each sum in its own fixed order), chosen in order below.
+        std::vector<std::pair<double, Index>> trials(static_cast<size_t>(2 * steps + 1));
+        tbb::parallel_for(0, 2 * steps + 1, [&](int k) {
+          const Similarity trial = motion(v, offset(k) * step, centre, radius).compose(c).compose(inv[best]);
           double sum = 0;
           Index overlap = 0;
           for (Index e = 0; e < ep.cols(); e += 2) {
@@ -164,6 +166,11 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
               ++overlap;
             }
           }
+          trials[size_t(k)] = {sum, overlap};
+        });
+        for (int k = 0; k <= 2 * steps; ++k) {
+          const int i = offset(k);
+          const auto [sum, overlap] = trials[size_t(k)];
           if (k == 0) {
             start_overlap = overlap;
             start_score = overlap > 0 ? sum / double(overlap) : 0.0;
