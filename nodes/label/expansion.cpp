@@ -79,8 +79,8 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
   std::vector<std::int32_t> var(size_t(p.sites), -1);  // site -> move variable, -1 if fixed
   std::vector<Index> count(size_t(p.labels), 0);       // sites per label in f
   for (const int l : f) ++count[size_t(l)];
-  std::vector<std::int32_t> vars, switched;  // reused by every move
-  std::vector<std::int32_t> switchable(size_t(p.labels), 0);
+  std::vector<std::int32_t> vars, switched;                                          // reused by every move
+  std::vector<Index> switchable(size_t(p.labels), 0), leaving(size_t(p.labels), 0);  // per label, zero between uses
   double energy = result.energy_before;
   const bool costs = !p.label_cost.empty();
   auto V = [&](Index e, int ls, int lt) { return ls == lt ? 0.0 : p.pairwise(e, ls, lt); };
@@ -159,12 +159,11 @@ ExpansionResult alpha_expansion(const LabelingProblem& p, std::vector<int> f, co
         }
       if (costs && !switched.empty()) {
         if (count[size_t(a)] == 0) delta += p.label_cost[size_t(a)];
-        for (const auto i : switched) --switchable[size_t(f[size_t(i)])];  // 0 - (sites of l switching)
+        for (const auto i : switched) ++leaving[size_t(f[size_t(i)])];
         for (const auto i : switched) {
           const int l = f[size_t(i)];
-          if (switchable[size_t(l)] < 0 && -switchable[size_t(l)] == count[size_t(l)])
-            delta -= p.label_cost[size_t(l)];  // l is emptied
-          switchable[size_t(l)] = 0;
+          if (leaving[size_t(l)] == count[size_t(l)]) delta -= p.label_cost[size_t(l)];  // l is emptied
+          leaving[size_t(l)] = 0;  // each label once (count >= 1, so no second match)
         }
       }
       for (const auto i : vars) var[size_t(i)] = -1;
