@@ -19,6 +19,7 @@
 #include "nodes/sample/sample.h"
 #include "nodes/scan/virtual_scan.h"
 #include "nodes/support/support.h"
+#include "nodes/symmetry/symmetry.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/vote/vote.h"
 
@@ -57,6 +58,7 @@ struct RunConfig {
   VoteOptions vote;
   ModesOptions modes;
   SupportOptions support;  // support.allow_scale follows vote.allow_scale
+  SymmetryOptions symmetry;
   LabelOptions label;
   CorrespondOptions correspond;
   double cover_distance = 2.0;  // completion: template samples within this many alpha of the registered scan are S

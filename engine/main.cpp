@@ -68,34 +68,6 @@ int run_info(const std::string& file, bool json) {
   return 0;
 }
 
-int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
-               int k) {
-  if (!is_supported_extension(input))
-    return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)", 2);
-  if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
-  SampleOptions so;
-  so.spacing = spacing;
-  if (count > 0) so.count = count;
-  so.seed = seed;
-  FeaturesOptions fo;
-  fo.k = k;
-  const LoadResult loaded = read_point_set(input);
-  for (const auto& w : loaded.warnings) spdlog::warn("{}", w);
-  Progress::instance().start("sample");
-  const SampleResult s = sample(loaded.points, so, [](double f) { Progress::instance().update("sample", f); });
-  Progress::instance().finish("sample");
-  for (const auto& w : s.warnings) spdlog::warn("{}", w);
-  Progress::instance().start("features");
-  const FeaturesResult f =
-      estimate_features(s.samples, fo, [](double x) { Progress::instance().update("features", x); });
-  Progress::instance().finish("features");
-  for (const auto& w : f.warnings) spdlog::warn("{}", w);
-  write_ply(output, f.points);
-  spdlog::info("{} samples (spacing {:.4g}) from {} with normals, k1 k2, d1 -> {}", f.points.size(), s.spacing, input,
-               output);
-  return 0;
-}
-
 // A file, or procedural:NAME (as in configs).
 PointSet load_shape(const std::string& text) {
   InputSpec spec;
@@ -112,6 +84,34 @@ PointSet load_shape(const std::string& text) {
   LoadResult r = load_input(spec, LoadOptions{});
   for (const auto& w : r.warnings) spdlog::warn("{}", w);
   return r.points;
+}
+
+int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
+               int k) {
+  const bool generated = input.rfind("procedural:", 0) == 0 || input.rfind("revolution:", 0) == 0;
+  if (!generated && !is_supported_extension(input))
+    return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)", 2);
+  if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
+  SampleOptions so;
+  so.spacing = spacing;
+  if (count > 0) so.count = count;
+  so.seed = seed;
+  FeaturesOptions fo;
+  fo.k = k;
+  const PointSet loaded = load_shape(input);
+  Progress::instance().start("sample");
+  const SampleResult s = sample(loaded, so, [](double f) { Progress::instance().update("sample", f); });
+  Progress::instance().finish("sample");
+  for (const auto& w : s.warnings) spdlog::warn("{}", w);
+  Progress::instance().start("features");
+  const FeaturesResult f =
+      estimate_features(s.samples, fo, [](double x) { Progress::instance().update("features", x); });
+  Progress::instance().finish("features");
+  for (const auto& w : f.warnings) spdlog::warn("{}", w);
+  write_ply(output, f.points);
+  spdlog::info("{} samples (spacing {:.4g}) from {} with normals, k1 k2, d1 -> {}", f.points.size(), s.spacing, input,
+               output);
+  return 0;
 }
 
 int run_eval(const std::string& output, const std::string& reference, double threshold, const std::string& scan,

@@ -127,7 +127,21 @@ struct Analogy {
   ModesResult modes;
   SupportResult support;
   LabelResult labels;
+  SymmetryResult source_symmetry, target_symmetry;
+  size_t composed_candidates = 0;
 };
+
+std::string describe(const SymmetryResult& s) {
+  if (s.axes.empty()) return "no rotational symmetry";
+  std::string out;
+  for (const auto& a : s.axes) {
+    std::ostringstream line;
+    line << (out.empty() ? "" : ", ") << (a.order == 0 ? std::string("continuous") : std::to_string(a.order) + "-fold")
+         << " about (" << a.direction.x() << ", " << a.direction.y() << ", " << a.direction.z() << ")";
+    out += line.str();
+  }
+  return out;
+}
 
 // The correspondence node's result.
 struct Correspondence {
@@ -165,6 +179,9 @@ nlohmann::json rotation_json(const Eigen::Matrix3d& R) {
 nlohmann::json transform_json(int label, const char* kind, const Similarity& q, Index support, Index labelled) {
   return {{"label", label},
           {"kind", kind},
+          {"rotation_deg", rotation_angle(q.rotation) * 180 / M_PI},
+          {"rotation_axis", json_vec(rotation_axis(q.rotation))},
+          {"axis_rotation", is_axis_rotation(q.rotation, M_PI / 180)},
           {"rotation", rotation_json(q.rotation)},
           {"translation", json_vec(q.translation)},
           {"scale", q.scale},
@@ -181,8 +198,17 @@ std::shared_ptr<const Analogy> compute_analogy(RunState& state, const RunConfig&
   a->spacing = a->target->sampled->sample.spacing;
   const PointSet& S = a->source;
   const PointSet& T = a->target->features.points;
+  run_node(state, "symmetry", "", [&](const ProgressFn&) {
+    a->source_symmetry = find_symmetries(S, a->spacing, config.symmetry);
+    a->target_symmetry = find_symmetries(T, a->spacing, config.symmetry);
+    node_logger("symmetry")
+        ->info("source: {}; target: {} ({} rotations)", describe(a->source_symmetry), describe(a->target_symmetry),
+               a->target_symmetry.rotations.size());
+    return 0;
+  });
   run_node(state, "vote", "", [&](const ProgressFn&) {
     a->votes = vote(S, T, a->spacing, config.vote);
+    if (a->source_symmetry.continuous) quotient_votes(a->votes, *a->source_symmetry.continuous, config.vote);
     node_logger("vote")->info("{} votes from {} target samples", a->votes.embedding.cols(),
                               std::min<Index>(config.vote.target_samples, T.size()));
     return 0;
@@ -196,8 +222,15 @@ std::shared_ptr<const Analogy> compute_analogy(RunState& state, const RunConfig&
   run_node(state, "support", "", [&](const ProgressFn&) {
     a->support = grow_supports(S, T, a->modes.modes, a->spacing, mode_accuracy(a->votes, config.vote, config.modes),
                                config.support);
-    node_logger("support")->info("{} transforms with support of at least {} samples", a->support.transforms.size(),
-                                 config.support.min_support);
+    const std::vector<Mode> composed =
+        composed_candidates(a->support, a->target_symmetry.rotations, T, config.symmetry);
+    const size_t voted = a->support.transforms.size();
+    a->support = extend_supports(S, T, a->support, composed, a->spacing, 0.0, config.support);
+    a->composed_candidates = composed.size();
+    node_logger("support")->info(
+        "{} transforms with support of at least {} samples ({} from votes; {} candidates composed with the target's "
+        "symmetries)",
+        a->support.transforms.size(), config.support.min_support, voted, composed.size());
     return 0;
   });
   run_node(state, "label", "", [&](const ProgressFn&) {
@@ -579,6 +612,17 @@ RunOutcome run_pipeline(const RunConfig& config) {
     transforms.push_back(
         transform_json(L.self_label, "self", Similarity{}, count[size_t(L.self_label)], count[size_t(L.self_label)]));
     energy = {{"before", L.energy_before}, {"after", L.energy_after}};
+    const auto axes_json = [](const SymmetryResult& sym) {
+      nlohmann::json axes = nlohmann::json::array();
+      for (const auto& ax : sym.axes)
+        axes.push_back({{"order", ax.order}, {"direction", json_vec(ax.direction)}, {"centre", json_vec(ax.centre)}});
+      return axes;
+    };
+    report["symmetry"] = {{"source_axes", axes_json(a.source_symmetry)},
+                          {"target_axes", axes_json(a.target_symmetry)},
+                          {"target_rotations", a.target_symmetry.rotations.size()},
+                          {"votes_quotiented", bool(a.source_symmetry.continuous)},
+                          {"composed_candidates", a.composed_candidates}};
     std::vector<double> label(L.labels.begin(), L.labels.end());
     std::vector<double> rgb[3];
     for (int l : L.labels) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -37,6 +38,24 @@ inline Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
 // Angle of a rotation matrix, in radians, in [0, pi].
 inline double rotation_angle(const Eigen::Matrix3d& R) {
   return std::acos(std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0));
+}
+
+// The unit axis of a rotation (z for the identity).
+inline Eigen::Vector3d rotation_axis(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() > 0 ? Eigen::Vector3d(aa.axis()) : Eigen::Vector3d::UnitZ();
+}
+
+// True when R is within `tolerance` radians of one of the 24 rotations that map axes to axes (the kappa pi / 2
+// rotations the paper's eq. 9 prefers).
+inline bool is_axis_rotation(const Eigen::Matrix3d& R, double tolerance) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  for (int r = 0; r < 3; ++r) {
+    Eigen::Index c = 0;
+    R.row(r).cwiseAbs().maxCoeff(&c);
+    A(r, c) = R(r, c) > 0 ? 1 : -1;
+  }
+  return A.determinant() > 0 && rotation_angle(A.transpose() * R) <= tolerance;
 }
 
 // Least-squares similarity (or rigid motion, when allow_scale is false) taking the columns of `from` to those of

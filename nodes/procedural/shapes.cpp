@@ -258,6 +258,95 @@ PointSet make_bench_template() {
   return table_with_legs(plain_leg, 1.8, {-0.82, 0.0, 0.82});
 }
 
+PointSet make_lowpoly_box(const Eigen::Vector3d& size, const Eigen::Vector3d& centre) {
+  const Eigen::Vector3d h = size / 2;
+  Eigen::Matrix3Xd P(3, 8);
+  for (int i = 0; i < 8; ++i)
+    P.col(i) = centre + Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  // Two triangles per face, wound outward: corners indexed by bits (x, y, z).
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  Matrix3Xi F(3, 12);
+  for (int q = 0; q < 6; ++q) {
+    F.col(2 * q) << quads[q][0], quads[q][1], quads[q][2];
+    F.col(2 * q + 1) << quads[q][0], quads[q][2], quads[q][3];
+  }
+  PointSet out(std::move(P));
+  out.set_faces(std::move(F));
+  out.check();
+  return out;
+}
+
+PointSet make_lowpoly_cylinder(double radius, double z0, double height, int sides) {
+  // Wall: one ring of quads; caps: fans around a centre vertex.
+  Eigen::Matrix3Xd P(3, 2 * sides + 2);
+  for (int i = 0; i < sides; ++i) {
+    const double phi = 2 * M_PI * i / sides;
+    P.col(i) = Eigen::Vector3d(radius * std::cos(phi), radius * std::sin(phi), z0);
+    P.col(sides + i) = Eigen::Vector3d(radius * std::cos(phi), radius * std::sin(phi), z0 + height);
+  }
+  P.col(2 * sides) = Eigen::Vector3d(0, 0, z0);
+  P.col(2 * sides + 1) = Eigen::Vector3d(0, 0, z0 + height);
+  Matrix3Xi F(3, 4 * sides);
+  for (int i = 0; i < sides; ++i) {
+    const int j = (i + 1) % sides;
+    F.col(4 * i) << i, j, sides + j;
+    F.col(4 * i + 1) << i, sides + j, sides + i;
+    F.col(4 * i + 2) << 2 * sides, j, i;                      // bottom, -z
+    F.col(4 * i + 3) << 2 * sides + 1, sides + i, sides + j;  // top, +z
+  }
+  PointSet out(std::move(P));
+  out.set_faces(std::move(F));
+  out.check();
+  return out;
+}
+
+PointSet make_crate() {
+  // A 0.6 x 0.6 x 0.8 box (base at z = 0) whose four sides carry the same relief: a raised frame around each face and
+  // a raised diamond in its middle. The top and bottom are plain.
+  MeshBuilder m;
+  const double w = 0.6, hgt = 0.8, d = 0.02;
+  const auto relief = [&](double u, double v) {  // u, v in [0, 1] across the face
+    const double eu = std::min(u, 1 - u) * w, ev = std::min(v, 1 - v) * hgt;
+    const double frame = std::clamp((0.07 - std::min(eu, ev)) / 0.01, 0.0, 1.0);
+    const double diamond =
+        std::clamp((0.16 - (std::abs(u - 0.5) * w + std::abs(v - 0.5) * hgt * 0.6)) / 0.02, 0.0, 1.0);
+    return d * std::max(frame * (std::min(eu, ev) > 0.005 ? 1.0 : 0.0), diamond);
+  };
+  for (int k = 0; k < 4; ++k) {
+    const double a = k * M_PI / 2;
+    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0), e(-std::sin(a), std::cos(a), 0);
+    m.grid(
+        [&](double s, double t) {
+          return Eigen::Vector3d(n * (w / 2 + relief(s, t)) + e * (s - 0.5) * w + Eigen::Vector3d(0, 0, t * hgt));
+        },
+        120, 160, false);
+  }
+  const auto cap = [&](double z, bool top) {
+    m.grid(
+        [&](double s, double t) {
+          const double x = (s - 0.5) * w, y = (t - 0.5) * w;
+          return Eigen::Vector3d(top ? x : y, top ? y : x, z);
+        },
+        60, 60, false);
+  };
+  cap(hgt, true);
+  cap(0.0, false);
+  return m.build();
+}
+
+PointSet make_crate_template() {
+  return make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.8), Eigen::Vector3d(0, 0, 0.4));
+}
+
+PointSet make_disk_pair(double second_scale, bool gears) {
+  // Two plain disks (the gear's template) side by side along x; the second scaled about its own base centre.
+  const PointSet disk = gears ? make_gear() : make_gear_template();
+  const Similarity left{Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.55, 0, 0), 1.0};
+  const Similarity right{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.55 + 0.48 * (second_scale - 1), 0, 0),
+                         second_scale};
+  return merged(transformed(disk, left), transformed(disk, right));
+}
+
 PointSet make_revolution(const PointSet& model, int rings, int segments) {
   if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
   const BoundingBox box = bounding_box(model.positions());
@@ -309,9 +398,18 @@ PointSet make_revolution(const PointSet& model, int rings, int segments) {
 }
 
 const std::vector<std::string>& shape_names() {
-  static const std::vector<std::string> names{
-      "plane",  "sphere",          "cylinder", "blob",          "box",   "box_l",          "vase",  "vase_template",
-      "column", "column_template", "gear",     "gear_template", "table", "table_template", "bench", "bench_template"};
+  static const std::vector<std::string> names{"plane",     "sphere",
+                                              "cylinder",  "blob",
+                                              "box",       "box_l",
+                                              "vase",      "vase_template",
+                                              "column",    "column_template",
+                                              "gear",      "gear_template",
+                                              "table",     "table_template",
+                                              "bench",     "bench_template",
+                                              "crate",     "crate_template",
+                                              "box8",      "column_template24",
+                                              "disk_pair", "disk_pair_scaled",
+                                              "gear_pair", "gear_pair_scaled"};
   return names;
 }
 
@@ -338,6 +436,14 @@ PointSet make_shape(const std::string& name) {
   if (name == "table_template") return make_table_template();
   if (name == "bench") return make_bench();
   if (name == "bench_template") return make_bench_template();
+  if (name == "crate") return make_crate();
+  if (name == "crate_template") return make_crate_template();
+  if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
+  if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
+  if (name == "disk_pair") return make_disk_pair(1.0, false);
+  if (name == "disk_pair_scaled") return make_disk_pair(0.7, false);
+  if (name == "gear_pair") return make_disk_pair(1.0, true);
+  if (name == "gear_pair_scaled") return make_disk_pair(0.7, true);
   std::string valid;
   for (const auto& n : shape_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InputError("unknown procedural shape '" + name + "' (valid: " + valid + ")");

@@ -51,6 +51,18 @@ PointSet make_table_template();
 PointSet make_bench();
 PointSet make_bench_template();
 
+// Low-poly templates as users draw them: a box of 8 vertices and 12 triangles, and a closed cylinder with `sides`
+// wall quads and fan caps (base at z0).
+PointSet make_lowpoly_box(const Eigen::Vector3d& size, const Eigen::Vector3d& centre);
+PointSet make_lowpoly_cylinder(double radius, double z0, double height, int sides);
+// A crate (0.6 x 0.6 x 0.8, base at z = 0) with the same relief on its four sides (a raised frame and a diamond), and
+// its template: the plain box of 8 vertices. Only quarter turns about z carry one side's relief to another.
+PointSet make_crate();
+PointSet make_crate_template();
+// Two plain disks (the gear's template) side by side, the second scaled by `second_scale`: the target of the two-body
+// transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
+PointSet make_disk_pair(double second_scale, bool gears);
+
 // The body of revolution about the vertical axis (z, through the centre of the bounding box in x and y) that best
 // fits a model: per height, the median distance of its points from the axis, smoothed; an open tube from the lowest
 // to the highest point. The plain structural template of a vase-like scan (relief, beads and handles averaged away).

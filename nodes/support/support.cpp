@@ -56,10 +56,9 @@ std::vector<std::int32_t> grow(const Context& c, const Similarity& q, const std:
   return support;
 }
 
-}  // namespace
-
-SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
-                            double spacing, double mode_accuracy, const SupportOptions& o) {
+// Each mode grown and refined into a supported transform (coarse to fine), in parallel, in mode order.
+std::vector<SupportedTransform> grow_all(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
+                                         double spacing, double mode_accuracy, const SupportOptions& o) {
   KdTree source_tree, target_tree;
   source_tree.build(source.positions());
   target_tree.build(target.positions());
@@ -116,8 +115,12 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
     st.rms = n ? std::sqrt(sum / double(n)) : 0;
     found[m] = std::move(st);
   });
+  return found;
+}
 
-  // Strongest first; drop the small and the duplicates.
+// Strongest first; drop the small and the duplicates.
+SupportResult select_transforms(std::vector<SupportedTransform> found, const PointSet& target, double spacing,
+                                const SupportOptions& o) {
   std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
     return a.support.size() > b.support.size() || (a.support.size() == b.support.size() && a.rms < b.rms);
   });
@@ -149,6 +152,22 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
     if (!duplicate) result.transforms.push_back(std::move(st));
   }
   return result;
+}
+
+}  // namespace
+
+SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
+                            double spacing, double mode_accuracy, const SupportOptions& options) {
+  return select_transforms(grow_all(source, target, modes, spacing, mode_accuracy, options), target, spacing, options);
+}
+
+SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
+                              const std::vector<Mode>& extra, double spacing, double accuracy,
+                              const SupportOptions& options) {
+  if (extra.empty()) return found;
+  std::vector<SupportedTransform> all = found.transforms;
+  for (auto& st : grow_all(source, target, extra, spacing, accuracy, options)) all.push_back(std::move(st));
+  return select_transforms(std::move(all), target, spacing, options);
 }
 
 }  // namespace scanfill

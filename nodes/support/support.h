@@ -48,4 +48,10 @@ struct SupportResult {
 SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
                             double spacing, double mode_accuracy, const SupportOptions& options);
 
+// `found` plus the transforms grown from `extra` modes (composed candidates, DESIGN section 9), all selected together
+// by the rules above: an extra transform that explains what a found one does is dropped like any duplicate.
+SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
+                              const std::vector<Mode>& extra, double spacing, double accuracy,
+                              const SupportOptions& options);
+
 }  // namespace scanfill

@@ -251,6 +251,9 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     const int l = in.labels[size_t(t)];
     if (l >= 0 && l < int(in.transforms.size()) && !covered(t)) ++region_size[size_t(l)];
   }
+  // Membership in a region is the analogy's (the labelled transform); the refinement only moves the exemplar's
+  // image to fit its detail to the images already placed (a relief can pull it off the template by its height).
+  const std::vector<Similarity> labelled_inverse = inverse;
   refine(ep, en, region_size, in.covered != nullptr, spacing, o, T, in.labels, inverse, out);
   const double reach2 = std::pow(o.reach * spacing, 2);
   std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
@@ -274,7 +277,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
       if (s < 0) return;
       std::int32_t t;
       double d2;
-      target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
+      target_tree.knn(labelled_inverse[size_t(l)].apply(in.source.positions().col(s)), 1, &t, &d2);
       if (d2 <= reach2 && member[size_t(t)] != 0) hit[size_t(e)] = std::int8_t(member[size_t(t)]);
     });
     for (Index e = 0; e < E.size(); ++e)

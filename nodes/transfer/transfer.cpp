@@ -4,8 +4,17 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/sample/sample.h"
 
 namespace scanfill {
+
+PointSet copy_surface(const PointSet& target, Index exemplar_points, Index exemplar_samples, Index target_samples) {
+  if (!target.has_faces() || exemplar_samples <= 0) return target;
+  const double per_sample = std::max(1.0, double(exemplar_points) / double(exemplar_samples));
+  const auto wanted = Index(std::ceil(per_sample * double(target_samples)));
+  if (target.size() >= wanted) return target;
+  return random_surface_points(target, wanted, 1);
+}
 
 TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   const Synthesis& s = in.synthesis;
@@ -13,6 +22,12 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   if (in.alignment.offset.size() != size_t(ns) || in.alignment.keep.size() != size_t(ns))
     throw InvariantError("transfer: the alignment does not match the synthesis");
   const bool faces = in.exemplar.has_faces();
+  // Copies come from the target's surface at the exemplar's density, not from a low-poly template's few vertices.
+  bool need_exemplar = false, need_target = false;
+  for (const auto& p : s.patches) (p.from_target ? need_target : need_exemplar) = true;
+  const PointSet target =
+      need_target ? copy_surface(in.target, in.exemplar.size(), in.exemplar_samples.size(), in.target_samples.size())
+                  : in.target;
 
   // Per patch and base sample: the synthesis point it became (or -1).
   const size_t np = s.patches.size();
@@ -31,13 +46,11 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
     nearest_each(tree, full.positions(), nearest, d2);
     return nearest;
   };
-  bool need_exemplar = false, need_target = false;
-  for (const auto& p : s.patches) (p.from_target ? need_target : need_exemplar) = true;
   const std::vector<std::int32_t> exemplar_nearest =
       need_exemplar ? nearest_samples(in.exemplar, in.exemplar_samples) : std::vector<std::int32_t>{};
   report(progress, 0.2);
   const std::vector<std::int32_t> target_nearest =
-      need_target ? nearest_samples(in.target, in.target_samples) : std::vector<std::int32_t>{};
+      need_target ? nearest_samples(target, in.target_samples) : std::vector<std::int32_t>{};
   report(progress, 0.4);
 
   // Count, then fill, patch by patch.
@@ -62,7 +75,7 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   Index base = 0;
   for (size_t p = 0; p < np; ++p) {
     const Patch& patch = s.patches[p];
-    const PointSet& full = patch.from_target ? in.target : in.exemplar;
+    const PointSet& full = patch.from_target ? target : in.exemplar;
     const Similarity to_working = patch.from_target ? Similarity{} : in.exemplar_to_working;
     const Similarity whole = W.compose(patch.transform.compose(to_working));
     const auto& e = emitted[p];

@@ -38,4 +38,10 @@ struct TransferResult {
 
 TransferResult transfer(const TransferInputs& in, const ProgressFn& progress = {});
 
+// The target's points that copies are made of (DESIGN section 9: a copy is sampled at the output's density, never
+// reduced to a template's own vertices): the target itself when it is a cloud or a mesh with at least as many
+// vertices per sample as the exemplar has points per sample; otherwise that many area-uniform points on its triangles
+// (seeded; copied regions then carry no triangles).
+PointSet copy_surface(const PointSet& target, Index exemplar_points, Index exemplar_samples, Index target_samples);
+
 }  // namespace scanfill

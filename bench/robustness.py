@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""Robustness sweep (issue 10): shapes x viewpoints x template kinds, each scored against the complete model.
+
+Every completion case is a virtual single-view range scan (`scanfill scan`) of a complete model, completed with a
+template, and scored by `scanfill eval --scan --template --baselines` against the complete model: F-score at 1% of the
+diagonal and unseen-detail recall, beside the two baselines (the scan alone, template blending). Transfer cases are
+scored against the styled target. Prints one JSON line per run and, at the end, a Markdown table per shape (min and
+median of F and unseen-detail, and the baselines' medians).
+
+    python3 bench/robustness.py build [--out DIR] [--only SUBSTRING] [--threads N] [--json FILE]
+
+Needs ../shared/data for the real cases (skipped with a message when absent).
+"""
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(os.path.dirname(ROOT), "shared", "data")
+
+# Eye directions (normalised below): four around, one from above, one from below.
+VIEWS = {
+    "front": (0.0, -1.0, 0.2),
+    "side": (1.0, 0.0, 0.25),
+    "back_oblique": (-0.7, 0.7, 0.5),
+    "front_oblique": (0.6, -0.8, 0.4),
+    "above": (0.25, -0.35, 1.0),
+    "below": (0.35, -0.25, -1.0),
+}
+
+# (shape, model, [templates])
+COMPLETIONS = [
+    ("vase", "procedural:vase", ["procedural:vase_template", "revolution:procedural:vase"]),
+    ("fluted column", "procedural:column", ["procedural:column_template", "procedural:column_template24"]),
+    ("gear", "procedural:gear", ["procedural:gear_template"]),
+    ("table", "procedural:table", ["procedural:table_template"]),
+    ("crate (box template)", "procedural:crate", ["procedural:crate_template"]),
+]
+
+# (shape, source, target, exemplar, styled target)
+TRANSFERS = [
+    ("two disks, equal", "procedural:gear_template", "procedural:disk_pair", "procedural:gear", "procedural:gear_pair"),
+    ("two disks, second 0.7", "procedural:gear_template", "procedural:disk_pair_scaled", "procedural:gear",
+     "procedural:gear_pair_scaled"),
+]
+
+
+def run(cmd, **kw):
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if r.returncode != 0:
+        raise RuntimeError(" ".join(cmd) + "\n" + r.stderr.strip())
+    return r.stdout
+
+
+def bbox_of(exe, shape, work):
+    """Bounding box of a model: `scanfill info` for files, a sampled copy for procedural shapes."""
+    if shape.startswith("procedural:"):
+        path = os.path.join(work, shape.split(":", 1)[1] + "_bbox.ply")
+        if not os.path.exists(path):
+            run([exe, "sample", "--input", shape, "--output", path, "--count", "2000"])
+        shape = path
+    return json.loads(run([exe, "info", "--json", shape]))["bbox"]
+
+
+def eye_for(bbox, view):
+    lo, hi = bbox
+    centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+    diag = math.dist(lo, hi)
+    d = VIEWS[view]
+    n = math.sqrt(sum(x * x for x in d))
+    return centre, [c + 2.6 * diag * x / n for c, x in zip(centre, d)]
+
+
+def yaml_list(v):
+    return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
+
+
+def completion_case(exe, work, shape, model, template, view, threads):
+    name = f"{shape} | {template.split(':')[-1]} | {view}"
+    tag = "".join(c if c.isalnum() else "_" for c in name)
+    d = os.path.join(work, tag)
+    os.makedirs(d, exist_ok=True)
+    centre, eye = eye_for(bbox_of(exe, model, work), view)
+    scan = os.path.join(d, "scan.ply")
+    run([exe, "scan", "--input", model, "--output", scan, "--eye", ",".join(map(str, eye)), "--target",
+         ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"])
+    cfg = os.path.join(d, "config.yaml")
+    with open(cfg, "w") as f:
+        f.write(f"mode: completion\ninputs:\n  scan: {scan}\n  template: {template}\noutput:\n  dir: {d}/out\n"
+                "sample:\n  count: 20000\n")
+    return name, cfg, os.path.join(d, "out"), ["--reference", model, "--scan", scan, "--template", template,
+                                              "--baselines"]
+
+
+def transfer_case(work, shape, source, target, exemplar):
+    tag = "".join(c if c.isalnum() else "_" for c in shape)
+    d = os.path.join(work, tag)
+    os.makedirs(d, exist_ok=True)
+    cfg = os.path.join(d, "config.yaml")
+    with open(cfg, "w") as f:
+        f.write(f"mode: transfer\ninputs:\n  source: {source}\n  target: {target}\n  exemplar: {exemplar}\n"
+                f"output:\n  dir: {d}/out\nsample:\n  count: 20000\n")
+    return cfg, os.path.join(d, "out")
+
+
+def score(exe, out_dir, eval_args, threads):
+    j = json.loads(run([exe, "eval", "--output", os.path.join(out_dir, "output.ply"), "--threads", str(threads)] +
+                       eval_args))
+    report = json.load(open(os.path.join(out_dir, "report.json")))
+    o = report.get("output", {})
+    used = [t for t in report["transforms"] if t["kind"] == "similarity" and t["labelled"] > 0]
+    row = {"f": j["fscore"], "unseen": j.get("unseen_detail_recall"),
+           "copied_points": o.get("copied_points"), "output_points": o.get("points"),
+           "labels_used": len(used), "axis_rotations_used": sum(1 for t in used if t.get("axis_rotation")),
+           "transforms": len(report["transforms"]) - 1}
+    for b, v in j.get("baselines", {}).items():
+        row[b + "_f"] = v["fscore"]
+        row[b + "_unseen"] = v["unseen_detail_recall"]
+    return row
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("build")
+    ap.add_argument("--out", default="/tmp/scanfill_robustness")
+    ap.add_argument("--only", default="", help="run only cases whose name contains this")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--json", default="", help="also write all rows to this file")
+    args = ap.parse_args()
+    exe = os.path.join(os.path.abspath(args.build), "scanfill")
+    os.makedirs(args.out, exist_ok=True)
+    cases = []  # (shape, name, cfg, out_dir, eval args)
+    for shape, model, templates in COMPLETIONS:
+        for template in templates:
+            for view in VIEWS:
+                cases.append(("completion", shape, model, template, view))
+    vaselion = os.path.join(DATA, "models", "vaselion.obj")
+    if os.path.exists(vaselion):
+        for view in VIEWS:
+            cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view))
+    else:
+        print(f"skipping the real cases: {vaselion} is absent", file=sys.stderr)
+    for t in TRANSFERS:
+        cases.append(("transfer",) + t)
+    rows = []
+    t_all = time.time()
+    for case in cases:
+        label = " | ".join(str(x) for x in case[1:] if not str(x).startswith("/"))
+        if args.only and args.only not in label:
+            continue
+        t0 = time.time()
+        try:
+            if case[0] == "completion":
+                _, shape, model, template, view = case
+                name, cfg, out_dir, eval_args = completion_case(exe, args.out, shape, model, template, view,
+                                                                args.threads)
+            else:
+                _, shape, source, target, exemplar, styled = case
+                name = shape
+                cfg, out_dir = transfer_case(args.out, shape, source, target, exemplar)
+                eval_args = ["--reference", styled, "--scan", exemplar, "--template", target, "--baselines"]
+            run([exe, "--config", cfg, "--threads", str(args.threads), "-q"])
+            row = {"shape": shape, "case": name, **score(exe, out_dir, eval_args, args.threads)}
+        except RuntimeError as e:
+            row = {"shape": case[1], "case": label, "error": str(e).splitlines()[-1]}
+        row["seconds"] = round(time.time() - t0, 1)
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+    if args.json:
+        json.dump(rows, open(args.json, "w"), indent=1)
+    print(f"\n{len(rows)} runs in {time.time() - t_all:.0f} s\n")
+    print("| shape | runs | F min / median | unseen-detail min / median | scan only F / unseen (median) | "
+          "template blend F / unseen (median) |")
+    print("|---|---|---|---|---|---|")
+    for shape in dict.fromkeys(r["shape"] for r in rows):
+        rs = [r for r in rows if r["shape"] == shape and "error" not in r]
+        errors = sum(1 for r in rows if r["shape"] == shape and "error" in r)
+        if not rs:
+            print(f"| {shape} | {errors} failed | | | | |")
+            continue
+        med = lambda k: statistics.median(r[k] or 0 for r in rs)
+        mn = lambda k: min(r[k] or 0 for r in rs)
+        print(f"| {shape} | {len(rs)}{f' (+{errors} failed)' if errors else ''} | {mn('f'):.3f} / {med('f'):.3f} | "
+              f"{mn('unseen'):.2f} / {med('unseen'):.2f} | {med('scan_only_f'):.3f} / {med('scan_only_unseen'):.2f} | "
+              f"{med('template_blend_f'):.3f} / {med('template_blend_unseen'):.2f} |")
+
+
+if __name__ == "__main__":
+    main()

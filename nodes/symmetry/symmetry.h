@@ -1,0 +1,74 @@
+// symmetry node: the global rotational symmetries of a shape, and the candidates they imply (DESIGN section 9).
+//
+// Templates are simple on purpose, and simple shapes are symmetric. Pair voting sees a symmetry in two ways, both bad:
+// - a continuous symmetry of the source S (a body of revolution, a disk) spreads one correct motion into a ring of
+//   equivalent modes, which fills the mode budget before the motion to another part of T is found;
+// - a discrete symmetry of the target T (the quarter turns of a box, the half turn between two equal bodies) is a
+//   candidate the labelling needs (the paper's eq. 9 prefers kappa pi / 2 rotations), but voting finds it only when
+//   the unseen part has curvature of its own to vote with.
+// So the symmetries are found directly. A rotation by angle theta about an axis through the shape's centroid holds when
+// at least `min_overlap` of the shape's samples (an even subsample of `test_samples`), rotated, land within
+// `distance` alpha of a sample whose normal agrees within `normal_angle_deg`. The axes tried are x, y, z and the
+// shape's principal axes (templates are drawn axis-aligned, and the paper assumes aligned inputs). An axis that holds
+// at the `continuous` test angles, which no small order explains, is continuous (a body of revolution); otherwise the
+// largest order n <= `max_order` whose 2 pi / n rotation holds is its discrete order. The discrete symmetries are
+// closed under composition (the group of a box is 8 rotations, not 4 + 2) up to `max_group` elements.
+//
+// Deviations and choices: only proper rotations (voting has no reflections either); translational symmetry (a row of
+// legs) is not searched globally: its repeats are partial symmetries that voting finds. A continuous axis is sampled
+// every 360 / `continuous_steps` degrees: the phase between those steps is fixed later against the exemplar
+// (synthesize's slippage search), as DESIGN section 9 says.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+#include "nodes/modes/modes.h"
+#include "nodes/support/support.h"
+
+namespace scanfill {
+
+struct SymmetryOptions {
+  bool enabled = true;           // find symmetries and compose candidates; false = plain voting only
+  double distance = 1.5;         // a rotated sample must land this close (alpha) to a sample; > 0
+  double normal_angle_deg = 30;  // with normals within this angle; (0, 180]
+  double min_overlap = 0.9;      // share of samples that must land on the shape; (0, 1]
+  int max_order = 8;             // largest discrete order n tried per axis; [2, 64]
+  int continuous_steps = 12;     // a continuous axis offers rotations every 360 / this degrees; [2, 360]
+  int max_group = 48;            // most discrete symmetries kept; [1, 1000]
+  Index test_samples = 3000;     // samples each rotation is scored on (an even subsample); >= 10
+  int max_base_transforms = 6;   // found transforms composed with the symmetries, strongest first; >= 0
+};
+
+struct SymmetryAxis {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
+  int order = 0;                                         // 0 = continuous, else n-fold
+};
+
+struct SymmetryResult {
+  std::vector<SymmetryAxis> axes;          // axes with a symmetry, continuous ones first
+  std::vector<Similarity> rotations;       // the symmetry group (identity excluded): shape -> shape
+  std::optional<SymmetryAxis> continuous;  // the first continuous axis, if any
+};
+
+// `shape` needs normals; `spacing` is alpha. Deterministic.
+SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& options);
+
+// Share of `shape`'s samples that `q` maps onto the shape (the test above), on at most `test_samples` of them.
+double symmetry_overlap(const PointSet& shape, const Similarity& q, double spacing, const SymmetryOptions& options);
+
+// Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
+// member of its family G_theta o Q (G_theta the rotation about the axis, which leaves S unchanged) whose rotation is
+// nearest the identity, so that a ring of equivalent motions becomes one mode. Its phase is fixed later.
+void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options);
+
+// Candidates the paper expects: each of the `max_base_transforms` strongest found transforms Q (target -> source)
+// composed with each symmetry R of the target (target -> target): Q o R explains the target samples that R carries
+// onto Q's support. Returned as modes whose voters are those samples, for grow_supports.
+std::vector<Mode> composed_candidates(const SupportResult& found, const std::vector<Similarity>& target_symmetries,
+                                      const PointSet& target, const SymmetryOptions& options);
+
+}  // namespace scanfill
