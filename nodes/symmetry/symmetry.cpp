@@ -96,11 +96,21 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   if (!o.enabled || shape.size() < 10) return result;
   if (!shape.has_normals()) throw InvariantError("symmetry needs normals");
   const Scorer scorer(shape, spacing, o);
-  const Eigen::Vector3d centre = shape.positions().rowwise().mean();
+  // The axis passes through the centre of symmetry: the bounding box's centre for an axis-aligned one, the centroid
+  // for a tilted one (neither is exact for the other kind, and the centroid moves with uneven sampling).
+  const Eigen::Vector3d centroid = shape.positions().rowwise().mean();
+  const BoundingBox box = bounding_box(shape.positions());
+  const Eigen::Vector3d box_centre = (box.min + box.max) / 2;
   // Angles no order up to 12 explains: a rotation that holds at all of them is continuous.
   const double continuous_deg[] = {7.0, 47.0, 133.0};
   std::vector<Similarity> generators;
-  for (const auto& axis : candidate_axes(shape.positions(), centre)) {
+  for (const auto& axis : candidate_axes(shape.positions(), centroid)) {
+    // The centre that fits the axis better, judged on a half turn or the smallest continuous test angle.
+    const auto score_at = [&](const Eigen::Vector3d& c) {
+      return std::max(scorer.overlap(rotation_about(c, axis, M_PI)),
+                      scorer.overlap(rotation_about(c, axis, continuous_deg[0] * M_PI / 180)));
+    };
+    const Eigen::Vector3d centre = score_at(box_centre) >= score_at(centroid) ? box_centre : centroid;
     const bool continuous = std::all_of(std::begin(continuous_deg), std::end(continuous_deg), [&](double deg) {
       return scorer.overlap(rotation_about(centre, axis, deg * M_PI / 180)) >= o.min_overlap;
     });

@@ -1,0 +1,127 @@
+// symmetry node: known answers on shapes whose symmetry group is known (a box, a cylinder, a blob, two disks), the
+// vote quotient on a ring of equivalent motions, and the composed candidates of a box.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "nodes/procedural/shapes.h"
+#include "nodes/sample/sample.h"
+#include "nodes/symmetry/symmetry.h"
+
+namespace scanfill {
+namespace {
+
+constexpr Index kSamples = 12000;
+
+// Area-uniform points with normals on a mesh, and their spacing alpha.
+PointSet samples_of(const PointSet& mesh, double& spacing) {
+  PointSet p = random_surface_points(mesh, kSamples, 7);
+  spacing = std::sqrt(0.64 * surface_area(mesh.positions(), mesh.faces()) / double(kSamples));
+  return p;
+}
+
+int count_order(const SymmetryResult& r, const Eigen::Vector3d& axis, int order) {
+  int n = 0;
+  for (const auto& a : r.axes) n += std::abs(a.direction.dot(axis)) > 0.999 && a.order == order;
+  return n;
+}
+
+TEST(Symmetry, ABoxWithASquareSectionHasQuarterTurnsAboutZAndHalfTurnsAboutXAndY) {
+  double alpha = 0;
+  const PointSet box = samples_of(make_crate_template(), alpha);
+  const SymmetryResult r = find_symmetries(box, alpha, {});
+  EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitZ(), 4), 1);
+  EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitX(), 2), 1);
+  EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitY(), 2), 1);
+  EXPECT_FALSE(r.continuous);
+  EXPECT_EQ(r.rotations.size(), 7u);  // the dihedral group D4 of order 8, identity excluded
+  for (const auto& q : r.rotations) {
+    EXPECT_TRUE(is_axis_rotation(q.rotation, 1e-6));
+    EXPECT_NEAR((q.apply(Eigen::Vector3d(0, 0, 0.4)) - Eigen::Vector3d(0, 0, 0.4)).norm(), 0, 1e-2);
+  }
+}
+
+TEST(Symmetry, AClosedCylinderIsContinuousAboutItsAxis) {
+  double alpha = 0;
+  const PointSet column = samples_of(make_column_template(), alpha);
+  const SymmetryResult r = find_symmetries(column, alpha, {});
+  ASSERT_TRUE(r.continuous);
+  EXPECT_NEAR(std::abs(r.continuous->direction.z()), 1.0, 1e-9);
+  EXPECT_NEAR(r.continuous->centre.head<2>().norm(), 0, 0.01);
+  // 12 steps about z, times the half turns that flip it end over end.
+  EXPECT_GE(r.rotations.size(), 11u);
+}
+
+TEST(Symmetry, ABlobHasNone) {
+  double alpha = 0;
+  const PointSet blob = samples_of(make_blob(), alpha);
+  const SymmetryResult r = find_symmetries(blob, alpha, {});
+  EXPECT_TRUE(r.axes.empty());
+  EXPECT_TRUE(r.rotations.empty());
+}
+
+TEST(Symmetry, TwoEqualDisksSideBySideSwapByAHalfTurn) {
+  double alpha = 0;
+  const PointSet pair = samples_of(make_disk_pair(1.0, false), alpha);
+  const SymmetryResult r = find_symmetries(pair, alpha, {});
+  EXPECT_FALSE(r.continuous);
+  EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitZ(), 2), 1);
+  // A scaled second disk breaks it.
+  const PointSet scaled = samples_of(make_disk_pair(0.7, false), alpha);
+  const SymmetryResult s = find_symmetries(scaled, alpha, {});
+  EXPECT_EQ(count_order(s, Eigen::Vector3d::UnitZ(), 2), 0);
+}
+
+TEST(Symmetry, DisabledFindsNothing) {
+  double alpha = 0;
+  SymmetryOptions o;
+  o.enabled = false;
+  const PointSet box = samples_of(make_crate_template(), alpha);
+  EXPECT_TRUE(find_symmetries(box, alpha, o).rotations.empty());
+}
+
+TEST(Symmetry, TheQuotientMakesARingOfEquivalentMotionsOneVote) {
+  // Votes of the family G_theta o Q0, for a source symmetric about the z axis through c: all the same after it.
+  VoteResult votes;
+  VoteOptions vo;
+  votes.center = Eigen::Vector3d(0.1, 0, 0);
+  votes.diagonal = 2;
+  const Eigen::Vector3d c(0.2, -0.1, 0.3);
+  const Similarity q0{Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(),
+                      Eigen::Vector3d(0.5, 0.1, -0.2), 1.2};
+  votes.embedding.resize(13, 24);
+  for (int i = 0; i < 24; ++i) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(i * 0.26, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Similarity g{R, c - R * c, 1.0};
+    votes.embedding.col(i) = embed(g.compose(q0), votes, vo);
+  }
+  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0}, vo);
+  for (int i = 1; i < 24; ++i) EXPECT_LT((votes.embedding.col(i) - votes.embedding.col(0)).norm(), 1e-9) << i;
+}
+
+TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
+  double alpha = 0;
+  const PointSet box = samples_of(make_crate_template(), alpha);
+  const SymmetryResult r = find_symmetries(box, alpha, {});
+  // One found transform: the identity, supported on the box's -y face.
+  SupportResult found;
+  SupportedTransform id;
+  for (Index t = 0; t < box.size(); ++t)
+    if (box.normals().col(t).y() < -0.9) id.support.push_back(std::int32_t(t));
+  found.transforms.push_back(id);
+  const std::vector<Mode> modes = composed_candidates(found, r.rotations, box, {});
+  ASSERT_EQ(modes.size(), r.rotations.size());
+  int faces_reached = 0;
+  for (const auto& m : modes) {
+    // Q o R's voters are the samples R carries onto the -y face: they lie on one face, which Q o R maps to -y.
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (const auto t : m.voters) n += box.normals().col(t);
+    n.normalize();
+    EXPECT_GT(m.transform.apply_normal(n).dot(Eigen::Vector3d(0, -1, 0)), 0.99);
+    faces_reached += n.y() > 0.99 || std::abs(n.x()) > 0.99;
+  }
+  EXPECT_GE(faces_reached, 3);  // +y, -x and +x: the sides a corner view cannot see
+}
+
+}  // namespace
+}  // namespace scanfill
