@@ -222,8 +222,7 @@ std::shared_ptr<const Analogy> compute_analogy(RunState& state, const RunConfig&
   run_node(state, "support", "", [&](const ProgressFn&) {
     a->support = grow_supports(S, T, a->modes.modes, a->spacing, mode_accuracy(a->votes, config.vote, config.modes),
                                config.support);
-    const std::vector<Mode> composed =
-        composed_candidates(a->support, a->target_symmetry.rotations, T, config.symmetry);
+    const std::vector<Mode> composed = composed_candidates(a->support, a->target_symmetry, T, config.symmetry);
     const size_t voted = a->support.transforms.size();
     a->support = extend_supports(S, T, a->support, composed, a->spacing, 0.0, config.support);
     a->composed_candidates = composed.size();

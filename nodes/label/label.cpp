@@ -132,9 +132,10 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
   problem.label_cost.assign(size_t(L + 1), 0.0);
   for (int l = 0; l < L; ++l) {
     const Similarity& q = transforms[size_t(l)].transform;
-    problem.label_cost[size_t(l)] = o.label_cost_per_sample * double(n) *
-                                    (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
-                                     o.scale_prior * std::abs(std::log2(q.scale)));
+    problem.label_cost[size_t(l)] =
+        o.label_cost_per_sample * double(n) *
+        (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
+         o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
   }
   result.label_costs.assign(problem.label_cost.begin(), problem.label_cost.end() - 1);
 

@@ -12,7 +12,10 @@
 //  - eq. 9 needs Euler angles, ambiguous near gimbal lock: the label prior uses the angle of the residual rotation
 //    from the nearest of the 24 axis-aligned rotations: h_l = label_cost_per_sample N (1 + rotation_prior angle / 45
 //    deg
-//    + scale_prior |log2 s|), N the number of target samples.
+//    + scale_prior |log2 s| + upright_prior (1 - cos tilt) / 2), N the number of target samples, tilt the angle
+//    between R z and z. The paper's eq. 9 cannot tell a quarter turn about the vertical from a half turn that turns
+//    the object upside down (both are kappa pi / 2 rotations), and on a symmetric template the data cannot either;
+//    objects stand upright (+z up, as the virtual scanner assumes), so turning one over costs more.
 //  - the self-reference label has the constant unary self_cost.
 //  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees; the 5-alpha ring is
 //    used only by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
@@ -39,7 +42,9 @@ struct LabelOptions {
   double pairwise_cap = 1.0;            // cap of V's data part (<= mu keeps V a metric); >= 0
   double label_cost_per_sample = 0.05;  // base h_l of a transform label, per target sample (h scales with the
                                         // sampling density, as the unary sums it competes with do); >= 0
-  double rotation_prior = 0.5;          // eq. 9 weight of the residual rotation; >= 0
+  double rotation_prior = 3.0;          // eq. 9 weight of the residual rotation; >= 0
+  double upright_prior = 1.0;           // weight of the tilt of +z, (1 - cos tilt) / 2: a turn about the vertical
+                                        // before a flip that turns the object over; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
   double dilation = 2.0;                // a label is feasible within this many alpha of its support; >= 0

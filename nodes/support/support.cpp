@@ -165,8 +165,12 @@ SupportResult extend_supports(const PointSet& source, const PointSet& target, co
                               const std::vector<Mode>& extra, double spacing, double accuracy,
                               const SupportOptions& options) {
   if (extra.empty()) return found;
+  // Compositions are exact (a refined transform and a symmetry of T): grown, not refined, since ICP would slide them
+  // along a symmetric template's free motions, off the axis rotations they were made to be.
+  SupportOptions grow_only = options;
+  grow_only.icp_iterations = 0;
   std::vector<SupportedTransform> all = found.transforms;
-  for (auto& st : grow_all(source, target, extra, spacing, accuracy, options)) all.push_back(std::move(st));
+  for (auto& st : grow_all(source, target, extra, spacing, accuracy, grow_only)) all.push_back(std::move(st));
   return select_transforms(std::move(all), target, spacing, options);
 }
 

@@ -49,7 +49,9 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
                             double spacing, double mode_accuracy, const SupportOptions& options);
 
 // `found` plus the transforms grown from `extra` modes (composed candidates, DESIGN section 9), all selected together
-// by the rules above: an extra transform that explains what a found one does is dropped like any duplicate.
+// by the rules above: an extra transform that explains what a found one does is dropped like any duplicate. The extras
+// are grown at `distance` alpha without ICP: they are exact compositions, and ICP would slide them along the free
+// motions of a symmetric target.
 SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
                               const std::vector<Mode>& extra, double spacing, double accuracy,
                               const SupportOptions& options);

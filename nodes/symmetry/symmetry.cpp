@@ -132,35 +132,51 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   return result;
 }
 
-void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options) {
-  const Eigen::Vector3d& a = axis.direction;
+namespace {
+
+// The angle theta of the rotation G_theta about the unit axis a that brings G_theta R nearest the identity.
+double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
   Eigen::Matrix3d across;  // [a]_x
   across << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  // trace(G_theta R) = a'Ra + cos(theta) (tr R - a'Ra) + sin(theta) tr([a]_x R): largest at theta = atan2(B, A).
+  const double A = R.trace() - a.dot(R * a), B = (across * R).trace();
+  return std::atan2(B, A);
+}
+
+}  // namespace
+
+void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {
     const Similarity q = unembed(votes.embedding.col(v), votes, vote_options);
-    // trace(G_theta R) = a'Ra + cos(theta) (tr R - a'Ra) + sin(theta) tr([a]_x R): largest at theta = atan2(B, A).
-    const double ara = a.dot(q.rotation * a);
-    const double A = q.rotation.trace() - ara, B = (across * q.rotation).trace();
-    const double theta = std::atan2(B, A);
-    const Similarity g = rotation_about(axis.centre, a, theta);
+    const Similarity g = rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction));
     votes.embedding.col(v) = embed(g.compose(q), votes, vote_options);
   });
 }
 
-std::vector<Mode> composed_candidates(const SupportResult& found, const std::vector<Similarity>& target_symmetries,
+std::vector<Mode> composed_candidates(const SupportResult& found, const SymmetryResult& target_symmetry,
                                       const PointSet& target, const SymmetryOptions& o) {
   std::vector<Mode> out;
-  if (!o.enabled || target_symmetries.empty() || found.transforms.empty()) return out;
+  if (!o.enabled || target_symmetry.rotations.empty() || found.transforms.empty()) return out;
   KdTree tree;
   tree.build(target.positions());
   const size_t bases = std::min<size_t>(found.transforms.size(), size_t(std::max(0, o.max_base_transforms)));
   for (size_t b = 0; b < bases; ++b) {
     const SupportedTransform& q = found.transforms[b];
-    for (const Similarity& r : target_symmetries) {
+    // On a continuous axis of T, ICP lets Q slide freely: snap it first to the member of its family whose rotation
+    // is nearest the identity, so that its compositions fall on the axis rotations eq. 9 prefers.
+    Similarity base = q.transform;
+    std::vector<Similarity> with{};
+    if (const auto& axis = target_symmetry.continuous) {
+      base = base.compose(
+          rotation_about(axis->centre, axis->direction, twist_to_identity(base.rotation, axis->direction)));
+      with.push_back(Similarity{});
+    }
+    with.insert(with.end(), target_symmetry.rotations.begin(), target_symmetry.rotations.end());
+    for (const Similarity& r : with) {
       // Q o R explains t when R t lies on Q's support: t near R^-1 u for u in the support.
       const Similarity r_inv = r.inverse();
       Mode m;
-      m.transform = q.transform.compose(r);
+      m.transform = base.compose(r);
       m.voters.resize(q.support.size());
       tbb::parallel_for(size_t(0), q.support.size(), [&](size_t i) {
         double d2;

@@ -67,8 +67,11 @@ void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptio
 
 // Candidates the paper expects: each of the `max_base_transforms` strongest found transforms Q (target -> source)
 // composed with each symmetry R of the target (target -> target): Q o R explains the target samples that R carries
-// onto Q's support. Returned as modes whose voters are those samples, for grow_supports.
-std::vector<Mode> composed_candidates(const SupportResult& found, const std::vector<Similarity>& target_symmetries,
+// onto Q's support. Where T has a continuous axis, Q is first replaced by the member of its family Q o G_theta whose
+// rotation is nearest the identity (ICP slides it freely along the axis), which is a candidate too: its compositions
+// with the axis steps then include the axis rotations. Returned as modes whose voters are those samples, for
+// grow_supports.
+std::vector<Mode> composed_candidates(const SupportResult& found, const SymmetryResult& target_symmetry,
                                       const PointSet& target, const SymmetryOptions& options);
 
 }  // namespace scanfill

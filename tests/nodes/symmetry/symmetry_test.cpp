@@ -109,7 +109,7 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   for (Index t = 0; t < box.size(); ++t)
     if (box.normals().col(t).y() < -0.9) id.support.push_back(std::int32_t(t));
   found.transforms.push_back(id);
-  const std::vector<Mode> modes = composed_candidates(found, r.rotations, box, {});
+  const std::vector<Mode> modes = composed_candidates(found, r, box, {});
   ASSERT_EQ(modes.size(), r.rotations.size());
   int faces_reached = 0;
   for (const auto& m : modes) {
