@@ -501,4 +501,27 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
   return out;
 }
 
+CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
+                           const CoverOptions& options) {
+  if (!(options.distance > 0) || !std::isfinite(options.distance))
+    throw ConfigError("correspond.cover_distance: expected a number > 0, got " + std::to_string(options.distance));
+  if (options.min_samples < 1)
+    throw ConfigError("correspond.cover_min_samples: expected an integer >= 1, got " +
+                      std::to_string(options.min_samples));
+  CoverResult r;
+  r.samples = covered_samples(templ, deformed, options.distance * spacing);
+  r.covered.assign(size_t(templ.size()), 0);
+  for (const auto s : r.samples) r.covered[size_t(s)] = 1;
+  if (Index(r.samples.size()) < options.min_samples)
+    throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +
+                     " template samples: too little of the template to learn from");
+  return r;
+}
+
+void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
+                        double max_ratio) {
+  check_shared_scale(name_a, bounding_box(a.positions()).diagonal(), name_b, bounding_box(b.positions()).diagonal(),
+                     max_ratio);
+}
+
 }  // namespace scanfill

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "nodes/core/point_set.h"
 
@@ -16,7 +17,7 @@ namespace scanfill {
 struct ScanOptions {
   Eigen::Vector3d eye = Eigen::Vector3d(0, -3, 0);   // camera position
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // point the camera looks at; != eye
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();     // image up (any vector not parallel to the view direction)
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();     // image up; parallel to the view: default_up of the view
   int width = 640;                                   // image columns; [1, 16384]
   int height = 480;                                  // image rows; [1, 16384]
   double fov_deg = 45.0;                             // vertical field of view; (0, 180)
@@ -28,6 +29,15 @@ struct ScanResult {
   PointSet points;  // positions, normals, viewpoint
   Index pixels_hit = 0;
 };
+
+// The camera's up when none is given: +z, or +y when the view direction is within about 8 degrees of the z axis
+// (|forward.z| > 0.99), where +z would leave the image frame ill-defined.
+Eigen::Vector3d default_up(const Eigen::Vector3d& forward);
+
+// The camera at `eye`, looking at `target` (~ = the centre of the mesh's bounding box) with `up` (~ = default_up):
+// the scanner's defaults for what a config leaves open. The image and noise options keep their defaults.
+ScanOptions default_camera(const PointSet& mesh, const Eigen::Vector3d& eye,
+                           const std::optional<Eigen::Vector3d>& target, const std::optional<Eigen::Vector3d>& up);
 
 // Throws InputError for a point cloud (no faces) or when no pixel sees the mesh.
 ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& options);
