@@ -124,7 +124,7 @@ void build_completion(Wiring& w) {
       w.node<CorrespondencePtr, CoveragePtr>([&w](const CorrespondencePtr& in) { return cover_stage(w.state, in); });
   flow::make_edge(add_correspond(w, scan, templ), cover);
   auto& vote = w.node<CoveragePtr, VotesPtr>(
-      [&w](const CoveragePtr& in) { return vote_stage(w.state, in->source, in->correspondence->source); });
+      [&w](const CoveragePtr& in) { return vote_stage(w.state, in->cover.source, in->correspondence->source); });
   flow::make_edge(cover, vote);
   auto& synthesize = w.node<std::tuple<CoveragePtr, LabelledPtr>, SynthesizedPtr>([&w](const auto& in) {
     const CoveragePtr& coverage = std::get<0>(in);

@@ -159,7 +159,6 @@ CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence
     c->correspondence = correspondence;
     c->cover = cover_template(templ.features.points, correspondence->map.deformed, templ.sampled->sample.spacing,
                               state.config.cover);
-    c->source = subset(templ.features.points, c->cover.samples);
     node_logger("cover")->info("the scan covers {} of {} template samples", c->cover.samples.size(),
                                templ.features.points.size());
     return CoveragePtr(std::move(c));

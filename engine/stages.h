@@ -46,7 +46,6 @@ using CorrespondencePtr = std::shared_ptr<const Correspondence>;
 struct Coverage {
   CorrespondencePtr correspondence;
   CoverResult cover;
-  PointSet source;
 };
 using CoveragePtr = std::shared_ptr<const Coverage>;
 

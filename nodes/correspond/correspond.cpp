@@ -512,6 +512,7 @@ CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deform
   r.samples = covered_samples(templ, deformed, options.distance * spacing);
   r.covered.assign(size_t(templ.size()), 0);
   for (const auto s : r.samples) r.covered[size_t(s)] = 1;
+  r.source = subset(templ, r.samples);
   if (Index(r.samples.size()) < options.min_samples)
     throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +
                      " template samples: too little of the template to learn from");

@@ -99,6 +99,7 @@ struct CoverOptions {
 struct CoverResult {
   std::vector<std::int32_t> samples;  // the covered template samples, ascending
   std::vector<std::uint8_t> covered;  // per template sample: 1 when covered
+  PointSet source;                    // the covered samples with their features: the analogy's source S
 };
 
 // `deformed`: the scan samples after registration and deformation (CorrespondResult::deformed); `spacing`: alpha.
