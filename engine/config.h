@@ -37,19 +37,6 @@ struct Input {
   InputSpec spec;
 };
 
-// Replaces the scan input (completion) by a single-view virtual range scan of it: the paper's synthetic scanner, so
-// that a complete model (or a procedural shape) can be completed and scored against itself.
-struct VirtualScanConfig {
-  std::optional<Eigen::Vector3d> eye;     // camera position; ~ = no virtual scan
-  std::optional<Eigen::Vector3d> target;  // looked-at point; ~ = the input's bounding-box centre
-  std::optional<Eigen::Vector3d> up;      // image up; ~ = the scanner's default_up (+z; +y looking along z)
-  int width = 640;
-  int height = 480;
-  double fov_deg = 45.0;
-  double noise = 0.0;
-  std::uint64_t seed = 1;
-};
-
 struct RunConfig {
   RunMode mode = RunMode::kCompletion;
   std::vector<Input> inputs;                 // in the mode's role order
@@ -66,7 +53,7 @@ struct RunConfig {
   CoverOptions cover;  // completion: which template samples the registered scan covers (keys correspond.cover_*)
   SynthesisOptions synthesize;
   AlignOptions align;
-  VirtualScanConfig virtual_scan;
+  VirtualScanOptions virtual_scan;
   std::filesystem::path config_path;  // the file it was read from
 };
 

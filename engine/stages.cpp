@@ -60,7 +60,7 @@ auto run_node(RunState& state, const std::string& name, const std::string& subje
 
 // The completion input replaced by its virtual scan, when the config asks for one; the scanner chooses the camera
 // the config leaves open.
-LoadResult maybe_virtual_scan(LoadResult load, const VirtualScanConfig& v, const std::string& subject) {
+LoadResult maybe_virtual_scan(LoadResult load, const VirtualScanOptions& v, const std::string& subject) {
   if (!v.eye) return load;
   if (!load.points.has_faces())
     throw InputError(subject + ": virtual_scan needs a mesh (triangles), got a point cloud of " +

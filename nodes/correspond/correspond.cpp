@@ -12,6 +12,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/correspond/correspond_options.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
@@ -353,6 +354,7 @@ class Deformation {
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
                             const CorrespondOptions& o, const ProgressFn& progress) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   CorrespondResult r;
   if (exemplar.size() < o.min_samples)
     throw InputError("the exemplar (scan) has " + std::to_string(exemplar.size()) + " samples; at least " +
@@ -503,11 +505,7 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
 
 CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
                            const CoverOptions& options) {
-  if (!(options.distance > 0) || !std::isfinite(options.distance))
-    throw ConfigError("correspond.cover_distance: expected a number > 0, got " + std::to_string(options.distance));
-  if (options.min_samples < 1)
-    throw ConfigError("correspond.cover_min_samples: expected an integer >= 1, got " +
-                      std::to_string(options.min_samples));
+  check_options(options);
   CoverResult r;
   r.samples = covered_samples(templ, deformed, options.distance * spacing);
   r.covered.assign(size_t(templ.size()), 0);

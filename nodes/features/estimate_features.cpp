@@ -12,6 +12,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/features/features_options.h"
 
 namespace scanfill {
 namespace {
@@ -215,6 +216,7 @@ Complex connection4(const Eigen::Vector3d& ni, const Eigen::Vector3d& ui, const 
 }  // namespace
 
 FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& options, const ProgressFn& progress) {
+  check_options(options);  // the config checks these too; a direct caller gets the same checks
   input.check();
   const Index n = input.size();
   const int k = options.k;

@@ -14,6 +14,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/sample/sample_options.h"
 
 namespace scanfill {
 namespace {
@@ -174,6 +175,7 @@ Index count_for_spacing(double area, double spacing) {
 }
 
 SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress) {
+  check_options(options);  // the config checks these too; a direct caller gets the same checks
   input.check();
   SampleResult result;
   const bool mesh = input.has_faces();

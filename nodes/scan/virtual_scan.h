@@ -25,6 +25,20 @@ struct ScanOptions {
   std::uint64_t seed = 1;
 };
 
+// The config's virtual scan (section virtual_scan): completion's scan input replaced by a single-view range scan of
+// it, the paper's synthetic scanner, so that a complete model (or a procedural shape) can be completed and scored
+// against itself. What it leaves open (~), default_camera decides.
+struct VirtualScanOptions {
+  std::optional<Eigen::Vector3d> eye;     // camera position; ~ = no virtual scan
+  std::optional<Eigen::Vector3d> target;  // looked-at point; ~ = the centre of the input's bounding box
+  std::optional<Eigen::Vector3d> up;      // image up; ~ = default_up: +z, or +y when looking within 8 degrees of z
+  int width = 640;                        // image columns; [1, 16384]
+  int height = 480;                       // image rows; [1, 16384]
+  double fov_deg = 45.0;                  // vertical field of view; (0, 180)
+  double noise = 0.0;                     // Gaussian sigma along the ray, model units; >= 0
+  std::uint64_t seed = 1;                 // seed of the noise
+};
+
 struct ScanResult {
   PointSet points;  // positions, normals, viewpoint
   Index pixels_hit = 0;
