@@ -350,6 +350,39 @@ class Deformation {
   double node_spacing_ = 1;
 };
 
+// M^-1: each source sample's exemplar sample (the nearest of those matched to it); unmatched source samples take
+// their nearest matched neighbour's.
+void inverse_match(const PointSet& source, CorrespondResult& r) {
+  r.source_match.assign(size_t(source.size()), -1);
+  std::vector<double> best(size_t(source.size()), 1e300);
+  for (size_t e = 0; e < r.exemplar_match.size(); ++e) {
+    const auto s = r.exemplar_match[e];
+    if (s < 0) continue;
+    const double d = (r.deformed.col(Index(e)) - source.positions().col(s)).squaredNorm();
+    if (d < best[size_t(s)]) {
+      best[size_t(s)] = d;
+      r.source_match[size_t(s)] = std::int32_t(e);
+    }
+  }
+  std::vector<std::int32_t> matched_sources;
+  for (Index s = 0; s < source.size(); ++s)
+    if (r.source_match[size_t(s)] >= 0) matched_sources.push_back(std::int32_t(s));
+  if (matched_sources.empty()) throw InputError("no exemplar sample matched any source sample");
+  if (matched_sources.size() < size_t(source.size())) {
+    Eigen::Matrix3Xd mp(3, Index(matched_sources.size()));
+    for (size_t i = 0; i < matched_sources.size(); ++i) mp.col(Index(i)) = source.positions().col(matched_sources[i]);
+    KdTree mt;
+    mt.build(mp);
+    tbb::parallel_for(Index(0), source.size(), [&](Index s) {
+      if (r.source_match[size_t(s)] >= 0) return;
+      std::int32_t i;
+      double d2;
+      mt.knn(source.positions().col(s), 1, &i, &d2);
+      r.source_match[size_t(s)] = r.source_match[size_t(matched_sources[size_t(i)])];
+    });
+  }
+}
+
 }  // namespace
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
@@ -441,35 +474,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     });
   }
 
-  // M^-1: each source sample's exemplar sample; unmatched ones take their nearest matched neighbour's.
-  r.source_match.assign(size_t(source.size()), -1);
-  std::vector<double> best(size_t(source.size()), 1e300);
-  for (size_t e = 0; e < r.exemplar_match.size(); ++e) {
-    const auto s = r.exemplar_match[e];
-    if (s < 0) continue;
-    const double d = (r.deformed.col(Index(e)) - source.positions().col(s)).squaredNorm();
-    if (d < best[size_t(s)]) {
-      best[size_t(s)] = d;
-      r.source_match[size_t(s)] = std::int32_t(e);
-    }
-  }
-  std::vector<std::int32_t> matched_sources;
-  for (Index s = 0; s < source.size(); ++s)
-    if (r.source_match[size_t(s)] >= 0) matched_sources.push_back(std::int32_t(s));
-  if (matched_sources.empty()) throw InputError("no exemplar sample matched any source sample");
-  if (matched_sources.size() < size_t(source.size())) {
-    Eigen::Matrix3Xd mp(3, Index(matched_sources.size()));
-    for (size_t i = 0; i < matched_sources.size(); ++i) mp.col(Index(i)) = source.positions().col(matched_sources[i]);
-    KdTree mt;
-    mt.build(mp);
-    tbb::parallel_for(Index(0), source.size(), [&](Index s) {
-      if (r.source_match[size_t(s)] >= 0) return;
-      std::int32_t i;
-      double d2;
-      mt.knn(source.positions().col(s), 1, &i, &d2);
-      r.source_match[size_t(s)] = r.source_match[size_t(matched_sources[size_t(i)])];
-    });
-  }
+  inverse_match(source, r);
   report(progress, 1.0);
   return r;
 }
