@@ -58,33 +58,13 @@ auto run_node(RunState& state, const std::string& name, const std::string& subje
   }
 }
 
-// The completion input replaced by its virtual scan, when the config asks for one; the scanner chooses the camera
-// the config leaves open.
-LoadResult maybe_virtual_scan(LoadResult load, const VirtualScanOptions& v, const std::string& subject) {
-  if (!v.eye) return load;
-  if (!load.points.has_faces())
-    throw InputError(subject + ": virtual_scan needs a mesh (triangles), got a point cloud of " +
-                     std::to_string(load.points.size()) + " points");
-  ScanOptions o = default_camera(load.points, *v.eye, v.target, v.up);
-  o.width = v.width;
-  o.height = v.height;
-  o.fov_deg = v.fov_deg;
-  o.noise = v.noise;
-  o.seed = v.seed;
-  ScanResult scan = virtual_scan(load.points, o);
-  load.points = std::move(scan.points);
-  load.format += " (virtual scan)";
-  load.file_points = load.points.size();
-  return load;
-}
-
 }  // namespace
 
 LoadedPtr load_stage(RunState& state, const Input& input) {
   const std::string role = role_name(input.role), name = "load:" + role, subject = input_name(input.spec);
   return run_node(state, name, subject, [&](const ProgressFn&) {
     LoadResult load = load_input(input.spec, state.config.load);
-    if (input.role == Role::kScan) load = maybe_virtual_scan(std::move(load), state.config.virtual_scan, subject);
+    if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), state.config.virtual_scan, subject);
     const BoundingBox box = input_bounds(load);
     auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});
     for (const auto& w : loaded->load.warnings) state.warn(name, w);

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "nodes/core/errors.h"
+#include "nodes/scan/virtual_scan_options.h"
 
 namespace scanfill {
 
@@ -110,6 +111,25 @@ ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& o) {
   result.points.set_normals(std::move(Nm));
   result.points.set_viewpoint(o.eye);
   return result;
+}
+
+LoadResult virtual_scan_input(LoadResult load, const VirtualScanOptions& options, const std::string& name) {
+  if (!options.eye) return load;
+  check_options(options);
+  if (!load.points.has_faces())
+    throw InputError(name + ": virtual_scan needs a mesh (triangles), got a point cloud of " +
+                     std::to_string(load.points.size()) + " points");
+  ScanOptions o = default_camera(load.points, *options.eye, options.target, options.up);
+  o.width = options.width;
+  o.height = options.height;
+  o.fov_deg = options.fov_deg;
+  o.noise = options.noise;
+  o.seed = options.seed;
+  ScanResult scan = virtual_scan(load.points, o);
+  load.points = std::move(scan.points);
+  load.format += " (virtual scan)";
+  load.file_points = load.points.size();
+  return load;
 }
 
 }  // namespace scanfill

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "nodes/core/point_set.h"
+#include "nodes/io/read_point_set.h"
 
 namespace scanfill {
 
@@ -55,5 +56,10 @@ ScanOptions default_camera(const PointSet& mesh, const Eigen::Vector3d& eye,
 
 // Throws InputError for a point cloud (no faces) or when no pixel sees the mesh.
 ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& options);
+
+// The config's virtual scan of a loaded input (completion's scan): the input as it is when options.eye is ~, else its
+// range scan seen by default_camera, with " (virtual scan)" added to the format. `name` names the input in the error
+// for a point cloud.
+LoadResult virtual_scan_input(LoadResult load, const VirtualScanOptions& options, const std::string& name);
 
 }  // namespace scanfill
