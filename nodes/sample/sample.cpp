@@ -170,17 +170,83 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
   return out;
 }
 
-Index count_for_spacing(double area, double spacing) {
-  return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
-}
-
 namespace {
+
+// sample()'s phases, defined after it.
+struct Edge {
+  std::int32_t j;
+  std::int32_t w;
+};
+
+// Each candidate's neighbours within d_max (CSR: degree offsets into adjacency) with each edge's contribution to the
+// weight, and each candidate's weight, their sum.
+struct WeightGraph {
+  std::vector<std::int64_t> degree;  // m + 1 offsets into adjacency
+  std::vector<Edge> adjacency;
+  std::vector<std::int64_t> weight;
+};
 
 // The candidates (a mesh's random surface points, or a cloud's own points, thinned when far denser than the samples)
 // and the area they cover (result.area); sets n_target, the number of samples to keep. `input_tree`: a cloud's
 // kd-tree, built here.
 Candidates candidates(const PointSet& input, const SampleOptions& options, KdTree& input_tree, SampleResult& result,
+                      Index& n_target);
+
+// The weight graph of the candidates: neighbours within d_max (normals within the angle when use_normals), each
+// contributing (1 - d/d_max)^exponent in fixed point.
+WeightGraph weights(const Candidates& cand, const KdTree& tree, double d_max, double cos_limit, bool use_normals,
+                    double exponent, const ProgressFn& progress);
+
+// Parallel weighted sample elimination down to n_target survivors; returns them in ascending candidate order.
+std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds, const ProgressFn& progress);
+
+// The surviving candidates as the sampled point set (result.samples), in Morton order for cache-friendly queries
+// downstream, and its measured spacing.
+void survivors(const PointSet& input, const Candidates& cand, const std::vector<std::int32_t>& live, bool use_normals,
+               SampleResult& result);
+
+}  // namespace
+
+Index count_for_spacing(double area, double spacing) {
+  return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
+}
+
+SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress) {
+  input.check();
+  SampleResult result;
+  const bool mesh = input.has_faces();
+  if (input.size() < 3)
+    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(input.size()));
+
+  // Candidates and the area they cover.
+  KdTree input_tree;
+  Index n_target = 0;
+  const Candidates cand = candidates(input, options, input_tree, result, n_target);
+  report(progress, 0.1);
+  const Index m = cand.positions.cols();
+  result.candidates = m;
+  result.r_max = std::sqrt(result.area / (2.0 * std::sqrt(3.0) * double(n_target)));
+  const double d_max = 2.0 * result.r_max;
+  const double cos_limit = std::cos(options.normal_angle_deg * M_PI / 180.0);
+  const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
+  // A cloud's candidates are its points (unless thinned): then its tree is reused.
+  const bool own_tree = mesh || cand.positions.cols() != input.size();
+  KdTree candidate_tree;
+  if (own_tree) candidate_tree.build(cand.positions);
+  WeightGraph g = weights(cand, own_tree ? candidate_tree : input_tree, d_max, cos_limit, use_normals,
+                          options.weight_exponent, progress);
+  report(progress, 0.3);
+  const std::vector<std::int32_t> live = eliminate(g, n_target, result.rounds, progress);
+  survivors(input, cand, live, use_normals, result);
+  report(progress, 1.0);
+  return result;
+}
+
+namespace {
+
+Candidates candidates(const PointSet& input, const SampleOptions& options, KdTree& input_tree, SampleResult& result,
                       Index& n_target) {
+  check_options(options);  // sample's first phase: the config checks these too, a direct caller gets the same checks
   const bool mesh = input.has_faces();
   Candidates cand;
   n_target = options.count;
@@ -235,19 +301,6 @@ Candidates candidates(const PointSet& input, const SampleOptions& options, KdTre
   }
   return cand;
 }
-
-struct Edge {
-  std::int32_t j;
-  std::int32_t w;
-};
-
-// Each candidate's neighbours within d_max (CSR: degree offsets into adjacency) with each edge's contribution to the
-// weight, and each candidate's weight, their sum.
-struct WeightGraph {
-  std::vector<std::int64_t> degree;  // m + 1 offsets into adjacency
-  std::vector<Edge> adjacency;
-  std::vector<std::int64_t> weight;
-};
 
 WeightGraph weights(const Candidates& cand, const KdTree& tree, double d_max, double cos_limit, bool use_normals,
                     double exponent, const ProgressFn& progress) {
@@ -312,7 +365,6 @@ WeightGraph weights(const Candidates& cand, const KdTree& tree, double d_max, do
   return g;
 }
 
-// Parallel weighted sample elimination down to n_target survivors; returns them in ascending candidate order.
 std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds, const ProgressFn& progress) {
   const Index m = Index(g.weight.size());
   // Parallel elimination rounds over the list of live candidates (compacted after each round).
@@ -389,8 +441,6 @@ std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds,
   return live;
 }
 
-// The surviving candidates as the sampled point set (result.samples), in Morton order for cache-friendly queries
-// downstream, and its measured spacing.
 void survivors(const PointSet& input, const Candidates& cand, const std::vector<std::int32_t>& live, bool use_normals,
                SampleResult& result) {
   const std::vector<Index> kept(live.begin(), live.end());  // ascending candidate order
@@ -428,35 +478,5 @@ void survivors(const PointSet& input, const Candidates& cand, const std::vector<
 }
 
 }  // namespace
-
-SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress) {
-  check_options(options);  // the config checks these too; a direct caller gets the same checks
-  input.check();
-  SampleResult result;
-  const bool mesh = input.has_faces();
-  if (input.size() < 3)
-    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(input.size()));
-  KdTree input_tree;
-  Index n_target = 0;
-  const Candidates cand = candidates(input, options, input_tree, result, n_target);
-  report(progress, 0.1);
-  const Index m = cand.positions.cols();
-  result.candidates = m;
-  result.r_max = std::sqrt(result.area / (2.0 * std::sqrt(3.0) * double(n_target)));
-  const double d_max = 2.0 * result.r_max;
-  const double cos_limit = std::cos(options.normal_angle_deg * M_PI / 180.0);
-  const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
-  // A cloud's candidates are its points (unless thinned): then its tree is reused.
-  const bool own_tree = mesh || cand.positions.cols() != input.size();
-  KdTree candidate_tree;
-  if (own_tree) candidate_tree.build(cand.positions);
-  WeightGraph g = weights(cand, own_tree ? candidate_tree : input_tree, d_max, cos_limit, use_normals,
-                          options.weight_exponent, progress);
-  report(progress, 0.3);
-  const std::vector<std::int32_t> live = eliminate(g, n_target, result.rounds, progress);
-  survivors(input, cand, live, use_normals, result);
-  report(progress, 1.0);
-  return result;
-}
 
 }  // namespace scanfill

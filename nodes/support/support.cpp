@@ -7,7 +7,6 @@
 #include <deque>
 
 #include "nodes/core/kdtree.h"
-#include "nodes/support/support_options.h"
 
 namespace scanfill {
 namespace {
@@ -61,7 +60,6 @@ std::vector<std::int32_t> grow(const Context& c, const Similarity& q, const std:
 
 SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
                             double spacing, double mode_accuracy, const SupportOptions& o) {
-  check_options(o);  // the config checks these too; a direct caller gets the same checks
   KdTree source_tree, target_tree;
   source_tree.build(source.positions());
   target_tree.build(target.positions());
