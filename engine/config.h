@@ -1,7 +1,8 @@
 // The run configuration: one YAML file, one key per option field (CONVENTIONS, configuration).
 //
-// Each Options struct of a node is described once by a field table (fields.cpp): key, reference, one-line doc and
-// range check. The same table reads YAML, validates, and prints --print-defaults, so they cannot drift apart.
+// Each Options struct of a node is described once by the option table beside it (nodes/STAGE/STAGE_options.h): key,
+// reference, one-line doc and range check. The same table reads YAML, validates, prints --print-defaults and is
+// checked by the node at entry, so they cannot drift apart.
 #pragma once
 
 #include <cstdint>
