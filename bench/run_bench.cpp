@@ -1,4 +1,4 @@
-// Whole runs: every config in bench/configs through run_pipeline, on 1 and 2 threads. Peak RSS is the process's so
+// Whole runs: every config in bench/configs through run(), on 1 and 2 threads. Peak RSS is the process's so
 // far (it accumulates); run one config per process (--benchmark_filter) for a run's own peak.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -15,7 +15,7 @@ void BM_Run(benchmark::State& state, const std::string& config_name) {
   RunConfig config = load_config(std::filesystem::path(SCANFILL_SOURCE_DIR) / "bench" / "configs" / config_name);
   config.output_dir = std::filesystem::temp_directory_path() / ("scanfill_bench_" + config_name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
-  for (auto _ : state) run_pipeline(config);
+  for (auto _ : state) run(config);
   std::filesystem::remove_all(config.output_dir);
   state.counters["peak_rss_mb"] = peak_rss_mb();
 }

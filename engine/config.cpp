@@ -13,8 +13,20 @@
 namespace scanfill {
 namespace {
 
-constexpr const char* kProcedural = "procedural:";
-constexpr const char* kRevolution = "revolution:";
+const std::vector<std::pair<std::string, Role>>& role_names() {
+  static const std::vector<std::pair<std::string, Role>> names{{"scan", Role::kScan},
+                                                               {"template", Role::kTemplate},
+                                                               {"source", Role::kSource},
+                                                               {"target", Role::kTarget},
+                                                               {"exemplar", Role::kExemplar}};
+  return names;
+}
+
+std::vector<std::string> mode_list() {
+  std::vector<std::string> out;
+  for (const auto& [name, mode] : mode_names()) out.push_back(name);
+  return out;
+}
 
 std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
   std::string out;
@@ -183,18 +195,42 @@ std::string yaml_value(const FieldRef& ref) {
 
 }  // namespace
 
-const std::vector<std::string>& mode_names() {
-  static const std::vector<std::string> modes{"completion", "transfer", "analogy"};
+const std::vector<std::pair<std::string, RunMode>>& mode_names() {
+  static const std::vector<std::pair<std::string, RunMode>> modes{
+      {"completion", RunMode::kCompletion}, {"transfer", RunMode::kTransfer}, {"analogy", RunMode::kAnalogy}};
   return modes;
 }
 
-const std::vector<std::string>& roles_for_mode(const std::string& mode) {
-  static const std::map<std::string, std::vector<std::string>> roles{{"completion", {"scan", "template"}},
-                                                                     {"transfer", {"source", "target", "exemplar"}},
-                                                                     {"analogy", {"source", "target"}}};
-  static const std::vector<std::string> none;
-  const auto it = roles.find(mode);
-  return it == roles.end() ? none : it->second;
+std::string mode_name(RunMode mode) {
+  for (const auto& [name, value] : mode_names())
+    if (value == mode) return name;
+  throw InvariantError("unnamed mode");
+}
+
+std::string role_name(Role role) {
+  for (const auto& [name, value] : role_names())
+    if (value == role) return name;
+  throw InvariantError("unnamed role");
+}
+
+const std::vector<Role>& roles_for_mode(RunMode mode) {
+  static const std::vector<Role> completion{Role::kScan, Role::kTemplate},
+      transfer{Role::kSource, Role::kTarget, Role::kExemplar}, analogy{Role::kSource, Role::kTarget};
+  switch (mode) {
+    case RunMode::kCompletion:
+      return completion;
+    case RunMode::kTransfer:
+      return transfer;
+    case RunMode::kAnalogy:
+      break;
+  }
+  return analogy;
+}
+
+const Input& input_for(const RunConfig& config, Role role) {
+  for (const Input& input : config.inputs)
+    if (input.role == role) return input;
+  throw InvariantError("no input '" + role_name(role) + "' in mode " + mode_name(config.mode));
 }
 
 std::vector<std::pair<std::string, std::string>> validate(const RunConfig& config) {
@@ -204,35 +240,20 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
     for (const Field& field : section.fields)
       if (auto problem = field.check())
         problems.push_back({section.key + "." + field.key, *problem + ", got " + yaml_value(field.ref)});
-  if (std::find(mode_names().begin(), mode_names().end(), config.mode) == mode_names().end())
-    problems.push_back({"mode", "expected one of " + join(mode_names()) + ", got '" + config.mode + "'"});
   if (config.threads < 0)
     problems.push_back({"threads", "expected an integer >= 0 (0 = all cores), got " + std::to_string(config.threads)});
   if (config.output_dir.empty()) problems.push_back({"output.dir", "expected a folder path"});
-  const auto& roles = roles_for_mode(config.mode);
-  for (const std::string& role : roles) {
+  std::vector<std::string> roles;
+  for (const Role role : roles_for_mode(config.mode)) roles.push_back(role_name(role));
+  for (const Role role : roles_for_mode(config.mode)) {
     const auto it =
-        std::find_if(config.inputs.begin(), config.inputs.end(), [&](const InputSpec& s) { return s.role == role; });
+        std::find_if(config.inputs.begin(), config.inputs.end(), [&](const Input& s) { return s.role == role; });
     if (it == config.inputs.end()) {
-      problems.push_back(
-          {"inputs", "mode '" + config.mode + "' needs input '" + role + "' (inputs: " + join(roles) + ")"});
+      problems.push_back({"inputs", "mode '" + mode_name(config.mode) + "' needs input '" + role_name(role) +
+                                        "' (inputs: " + join(roles) + ")"});
       continue;
     }
-    const std::string key = "inputs." + role;
-    if (!it->procedural.empty()) {
-      const auto& names = shape_names();
-      if (std::find(names.begin(), names.end(), it->procedural) == names.end())
-        problems.push_back({key, "unknown procedural shape '" + it->procedural + "' (valid: " + join(names) + ")"});
-      continue;
-    }
-    std::error_code ec;
-    if (!std::filesystem::exists(it->path, ec))
-      problems.push_back({key, "no such file: " + it->path.string()});
-    else if (!std::filesystem::is_regular_file(it->path, ec))
-      problems.push_back({key, "not a regular file: " + it->path.string()});
-    else if (!is_supported_extension(it->path))
-      problems.push_back({key, "unknown format '" + it->path.extension().string() + "' of " + it->path.string() +
-                                   " (expected .ply, .pcd, .obj, .off, .stl or .xyz)"});
+    if (const auto problem = check_input(it->spec)) problems.push_back({"inputs." + role_name(role), *problem});
   }
   return problems;
 }
@@ -259,12 +280,21 @@ RunConfig load_config(const std::filesystem::path& path) {
   for (const Section& section : option_sections(config)) top.push_back(section.key);
   check_map(root, "", top, problems);
 
+  bool mode_known = true;  // a mode that is given but unknown: its inputs cannot be checked
   if (const YAML::Node n = root["mode"]) {
     problems.remember("mode", n.Mark());
-    if (!scalar_as(n, config.mode))
-      problems.add(n.Mark(), "mode", "expected one of " + join(mode_names()) + ", got " + describe(n));
+    std::string name;
+    const bool scalar = scalar_as(n, name);
+    const auto& modes = mode_names();
+    const auto it = std::find_if(modes.begin(), modes.end(), [&](const auto& m) { return m.first == name; });
+    if (scalar && it != modes.end()) {
+      config.mode = it->second;
+    } else {
+      mode_known = false;
+      problems.add(n.Mark(), "mode", "expected one of " + join(mode_list()) + ", got " + describe(n));
+    }
   } else {
-    problems.add(root.Mark(), "mode", "missing (expected one of " + join(mode_names()) + ")");
+    problems.add(root.Mark(), "mode", "missing (expected one of " + join(mode_list()) + ")");
   }
   if (const YAML::Node n = root["threads"]) {
     problems.remember("threads", n.Mark());
@@ -281,35 +311,31 @@ RunConfig load_config(const std::filesystem::path& path) {
         problems.add(d.Mark(), "output.dir", "expected a folder path, got " + describe(d));
     }
   }
-  const std::vector<std::string> all_roles{"scan", "template", "source", "target", "exemplar"};
-  const std::filesystem::path base = path.parent_path();
   if (const YAML::Node n = root["inputs"]) {
     problems.remember("inputs", n.Mark());
-    const auto& roles = roles_for_mode(config.mode);
-    if (check_map(n, "inputs", roles.empty() ? all_roles : roles, problems)) {
+    std::vector<std::string> valid;  // the mode's roles in order; every role when the mode is unknown
+    if (mode_known)
+      for (const Role role : roles_for_mode(config.mode)) valid.push_back(role_name(role));
+    else
+      for (const auto& [name, role] : role_names()) valid.push_back(name);
+    if (check_map(n, "inputs", valid, problems)) {
       for (auto it = n.begin(); it != n.end(); ++it) {
-        InputSpec spec;
-        spec.role = it->first.as<std::string>();
-        if (!roles.empty() && std::find(roles.begin(), roles.end(), spec.role) == roles.end()) continue;
-        const std::string key = "inputs." + spec.role;
+        const std::string name = it->first.as<std::string>();
+        const auto role = std::find(valid.begin(), valid.end(), name);
+        if (!mode_known || role == valid.end()) continue;
+        const std::string key = "inputs." + name;
         problems.remember(key, it->second.Mark());
-        if (!scalar_as(it->second, spec.text) || spec.text.empty()) {
+        std::string text;
+        if (!scalar_as(it->second, text) || text.empty()) {
           problems.add(it->second.Mark(), key, "expected a file path or procedural:NAME, got " + describe(it->second));
           continue;
         }
-        std::string file = spec.text;
-        if (file.rfind(kRevolution, 0) == 0) {
-          spec.revolution = true;
-          file = file.substr(std::string(kRevolution).size());
-        }
-        if (file.rfind(kProcedural, 0) == 0)
-          spec.procedural = file.substr(std::string(kProcedural).size());
-        else
-          spec.path = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
-        config.inputs.push_back(spec);
+        config.inputs.push_back(
+            {roles_for_mode(config.mode)[size_t(role - valid.begin())], parse_input(text, path.parent_path())});
       }
-      std::stable_sort(config.inputs.begin(), config.inputs.end(), [&](const InputSpec& a, const InputSpec& b) {
-        return std::find(roles.begin(), roles.end(), a.role) < std::find(roles.begin(), roles.end(), b.role);
+      std::stable_sort(config.inputs.begin(), config.inputs.end(), [&](const Input& a, const Input& b) {
+        const auto& order = roles_for_mode(config.mode);
+        return std::find(order.begin(), order.end(), a.role) < std::find(order.begin(), order.end(), b.role);
       });
     }
   } else {
@@ -330,9 +356,9 @@ RunConfig load_config(const std::filesystem::path& path) {
     }
   }
   // Ranges and inputs of every value that parsed (one that did not keeps its valid default): all problems at once.
-  for (const auto& [key, what] : validate(config)) problems.add(problems.mark_of(key), key, what);
+  for (const auto& [key, what] : validate(config))
+    if (mode_known || key.rfind("inputs", 0) != 0) problems.add(problems.mark_of(key), key, what);
   if (!problems.empty()) throw ConfigError(problems.message());
-  config.support.allow_scale = config.vote.allow_scale;
   return config;
 }
 
@@ -340,7 +366,7 @@ std::string default_config_yaml() {
   RunConfig config;
   std::ostringstream s;
   s << "# scanfill configuration: every option with its default. Relative input paths are relative to this file.\n"
-    << "mode: completion            # " << join(mode_names(), " | ") << "\n"
+    << "mode: completion            # " << join(mode_list(), " | ") << "\n"
     << "inputs:                     # completion: scan, template; transfer: source, target, exemplar;\n"
     << "                            # analogy: source, target. A file (.ply .pcd .obj .off .stl .xyz)\n"
     << "                            # or procedural:NAME (" << join(shape_names()) << "),\n"

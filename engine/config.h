@@ -1,7 +1,8 @@
 // The run configuration: one YAML file, one key per option field (CONVENTIONS, configuration).
 //
-// Each Options struct of a node is described once by a field table (fields.cpp): key, reference, one-line doc and
-// range check. The same table reads YAML, validates, and prints --print-defaults, so they cannot drift apart.
+// Each Options struct of a node is described once by the option table beside it (nodes/STAGE/STAGE_options.h): key,
+// reference, one-line doc and range check. The same table reads YAML, validates, prints --print-defaults and is
+// checked by the node at entry, so they cannot drift apart.
 #pragma once
 
 #include <cstdint>
@@ -13,7 +14,7 @@
 #include "nodes/align/align.h"
 #include "nodes/correspond/correspond.h"
 #include "nodes/features/estimate_features.h"
-#include "nodes/io/read_point_set.h"
+#include "nodes/input/input.h"
 #include "nodes/label/label.h"
 #include "nodes/modes/modes.h"
 #include "nodes/sample/sample.h"
@@ -25,31 +26,22 @@
 
 namespace scanfill {
 
-// One input of the run: a file, or a procedural shape written as "procedural:NAME".
-struct InputSpec {
-  std::string role;            // scan, template, source, target, exemplar
-  std::string text;            // as written in the config
-  std::filesystem::path path;  // resolved against the config file's folder (empty for procedural inputs)
-  std::string procedural;      // shape name for "procedural:NAME"
-  bool revolution = false;     // "revolution:PATH": the body of revolution about z of the model at PATH (a template)
-};
+// What a run makes (DESIGN section 1); each mode has its own graph builder (pipeline.cpp).
+enum class RunMode { kCompletion, kTransfer, kAnalogy };
 
-// Replaces the scan input (completion) by a single-view virtual range scan of it: the paper's synthetic scanner, so
-// that a complete model (or a procedural shape) can be completed and scored against itself.
-struct VirtualScanConfig {
-  std::optional<Eigen::Vector3d> eye;     // camera position; ~ = no virtual scan
-  std::optional<Eigen::Vector3d> target;  // looked-at point; ~ = the input's bounding-box centre
-  std::optional<Eigen::Vector3d> up;      // image up; ~ = +z (or +y when looking along z)
-  int width = 640;
-  int height = 480;
-  double fov_deg = 45.0;
-  double noise = 0.0;
-  std::uint64_t seed = 1;
+// The part an input plays: completion takes scan + template, transfer source + target + exemplar, analogy source +
+// target.
+enum class Role { kScan, kTemplate, kSource, kTarget, kExemplar };
+
+// One input of the run: its role and what the config wrote for it (a file, procedural:NAME, revolution:...).
+struct Input {
+  Role role = Role::kScan;
+  InputSpec spec;
 };
 
 struct RunConfig {
-  std::string mode = "completion";           // completion | transfer | analogy
-  std::vector<InputSpec> inputs;             // in the mode's role order
+  RunMode mode = RunMode::kCompletion;
+  std::vector<Input> inputs;                 // in the mode's role order
   std::filesystem::path output_dir = "out";  // created if missing; relative to the working directory
   int threads = 0;                           // 0 = all cores
   LoadOptions load;
@@ -57,20 +49,27 @@ struct RunConfig {
   FeaturesOptions features;
   VoteOptions vote;
   ModesOptions modes;
-  SupportOptions support;  // support.allow_scale follows vote.allow_scale
+  SupportOptions support;  // allow_scale is vote.allow_scale's (the engine passes it on); no key of its own
   SymmetryOptions symmetry;
   LabelOptions label;
   CorrespondOptions correspond;
-  double cover_distance = 2.0;  // completion: template samples within this many alpha of the registered scan are S
+  CoverOptions cover;  // completion: which template samples the registered scan covers (keys correspond.cover_*)
   SynthesisOptions synthesize;
   AlignOptions align;
-  VirtualScanConfig virtual_scan;
+  VirtualScanOptions virtual_scan;
   std::filesystem::path config_path;  // the file it was read from
 };
 
+// Names as the config and the report write them.
+const std::vector<std::pair<std::string, RunMode>>& mode_names();
+std::string mode_name(RunMode mode);
+std::string role_name(Role role);
+
 // Roles each mode requires, in order.
-const std::vector<std::string>& mode_names();
-const std::vector<std::string>& roles_for_mode(const std::string& mode);
+const std::vector<Role>& roles_for_mode(RunMode mode);
+
+// The input playing `role`; throws InvariantError when the config has none.
+const Input& input_for(const RunConfig& config, Role role);
 
 // Reads and validates a config file. Throws ConfigError whose message lists every problem, one per line, each as
 // "FILE:LINE:COLUMN: dotted.key: problem".

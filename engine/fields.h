@@ -1,5 +1,5 @@
-// Field tables: the single description of each options struct used by config reading, validation and
-// --print-defaults. Internal to the engine.
+// The config's sections, one per node's options, each described once by the table beside its Options struct
+// (nodes/STAGE/STAGE_options.h); config reading, validation and --print-defaults all use them. Internal to the engine.
 #pragma once
 
 #include <functional>
@@ -9,24 +9,12 @@
 #include <vector>
 
 #include "engine/config.h"
+#include "nodes/core/options.h"
 
 namespace scanfill {
 
-using FieldRef = std::variant<double*, int*, Index*, std::uint64_t*, bool*, NormalOrientation*,
-                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*>;
-
-struct Field {
-  std::string key;
-  FieldRef ref;
-  std::string doc;                                    // meaning, unit, valid range
-  std::function<std::optional<std::string>()> check;  // "expected ..." when the value is out of range
-};
-
-struct Section {
-  std::string key;  // "sample", "features", "load"
-  std::string doc;
-  std::vector<Field> fields;
-};
+// A config section: a node's option table (nodes/core/options.h).
+using Section = OptionTable;
 
 std::vector<Section> option_sections(RunConfig& config);
 

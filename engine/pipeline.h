@@ -1,9 +1,6 @@
-// Graph assembly per mode and the main run (DESIGN section 2).
-//
-// Every input has a branch load -> sample -> features; the branches run concurrently in one tbb::flow graph, with
-// immutable std::shared_ptr<const T> messages. Each node body is a call of a pure function of nodes/; the engine
-// adds timing, progress, logging and the node's name to any error. Outputs are written only after the whole graph
-// has succeeded, each atomically, so a failed run leaves no output file.
+// The main run (DESIGN section 2): one tbb::flow graph per mode, built by build_completion, build_transfer or
+// build_analogy (pipeline.cpp), whose nodes are the stages of stages.h; the outputs are written by outputs.cpp once
+// the whole graph has succeeded, each atomically, so a failed run leaves no output file.
 #pragma once
 
 #include <filesystem>
@@ -26,13 +23,10 @@ struct RunOutcome {
   std::string summary;  // what was made and where, for the user (several lines)
 };
 
-// Runs the graph for config.mode. Throws Error (with the failing node's name) on failure.
-RunOutcome run_pipeline(const RunConfig& config);
+// Builds and runs the graph of config.mode, then writes the outputs. Throws Error (with the failing node's name).
+RunOutcome run(const RunConfig& config);
 
 // Peak resident memory of this process so far, in MiB.
 double peak_rss_mb();
-
-// Loads one input: a file, or a procedural shape.
-LoadResult load_input(const InputSpec& spec, const LoadOptions& options);
 
 }  // namespace scanfill

@@ -1,5 +1,5 @@
 // Boost.Graph's Boykov-Kolmogorov max-flow on an adjacency_list: the oracle our MaxFlow is tested against
-// (tests/nodes/label/max_flow_test.cpp) and compared with (bench/nodes/label_bench.cpp), and the grid problems both
+// (tests/nodes/graphcut/max_flow_test.cpp) and compared with (bench/nodes/label_bench.cpp), and the grid problems both
 // use.
 #pragma once
 
@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "nodes/label/max_flow.h"
+#include "nodes/graphcut/max_flow.h"
 
 namespace scanfill::test {
 

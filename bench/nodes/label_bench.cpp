@@ -9,8 +9,8 @@
 
 #include "bench_util.h"
 #include "max_flow_oracle.h"
-#include "nodes/label/expansion.h"
-#include "nodes/label/max_flow.h"
+#include "nodes/graphcut/expansion.h"
+#include "nodes/graphcut/max_flow.h"
 
 namespace scanfill {
 namespace {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "nodes/align/align_options.h"
 #include "nodes/core/kdtree.h"
 
 namespace scanfill {
@@ -51,6 +52,7 @@ struct Seam {
 }  // namespace
 
 AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   const Index n = s.points.size();
   AlignResult r;
   r.offset.assign(size_t(n), 0.0);

@@ -12,6 +12,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/correspond/correspond_options.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
@@ -355,10 +356,44 @@ class Deformation {
   double node_spacing_ = 1;
 };
 
+// M^-1: each source sample's exemplar sample (the nearest of those matched to it); unmatched source samples take
+// their nearest matched neighbour's.
+void inverse_match(const PointSet& source, CorrespondResult& r) {
+  r.source_match.assign(size_t(source.size()), -1);
+  std::vector<double> best(size_t(source.size()), 1e300);
+  for (size_t e = 0; e < r.exemplar_match.size(); ++e) {
+    const auto s = r.exemplar_match[e];
+    if (s < 0) continue;
+    const double d = (r.deformed.col(Index(e)) - source.positions().col(s)).squaredNorm();
+    if (d < best[size_t(s)]) {
+      best[size_t(s)] = d;
+      r.source_match[size_t(s)] = std::int32_t(e);
+    }
+  }
+  std::vector<std::int32_t> matched_sources;
+  for (Index s = 0; s < source.size(); ++s)
+    if (r.source_match[size_t(s)] >= 0) matched_sources.push_back(std::int32_t(s));
+  if (matched_sources.empty()) throw InputError("no exemplar sample matched any source sample");
+  if (matched_sources.size() < size_t(source.size())) {
+    Eigen::Matrix3Xd mp(3, Index(matched_sources.size()));
+    for (size_t i = 0; i < matched_sources.size(); ++i) mp.col(Index(i)) = source.positions().col(matched_sources[i]);
+    KdTree mt;
+    mt.build(mp);
+    tbb::parallel_for(Index(0), source.size(), [&](Index s) {
+      if (r.source_match[size_t(s)] >= 0) return;
+      std::int32_t i;
+      double d2;
+      mt.knn(source.positions().col(s), 1, &i, &d2);
+      r.source_match[size_t(s)] = r.source_match[size_t(matched_sources[size_t(i)])];
+    });
+  }
+}
+
 }  // namespace
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
                             const CorrespondOptions& o, const ProgressFn& progress) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   CorrespondResult r;
   if (exemplar.size() < o.min_samples)
     throw InputError("the exemplar (scan) has " + std::to_string(exemplar.size()) + " samples; at least " +
@@ -445,35 +480,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     });
   }
 
-  // M^-1: each source sample's exemplar sample; unmatched ones take their nearest matched neighbour's.
-  r.source_match.assign(size_t(source.size()), -1);
-  std::vector<double> best(size_t(source.size()), 1e300);
-  for (size_t e = 0; e < r.exemplar_match.size(); ++e) {
-    const auto s = r.exemplar_match[e];
-    if (s < 0) continue;
-    const double d = (r.deformed.col(Index(e)) - source.positions().col(s)).squaredNorm();
-    if (d < best[size_t(s)]) {
-      best[size_t(s)] = d;
-      r.source_match[size_t(s)] = std::int32_t(e);
-    }
-  }
-  std::vector<std::int32_t> matched_sources;
-  for (Index s = 0; s < source.size(); ++s)
-    if (r.source_match[size_t(s)] >= 0) matched_sources.push_back(std::int32_t(s));
-  if (matched_sources.empty()) throw InputError("no exemplar sample matched any source sample");
-  if (matched_sources.size() < size_t(source.size())) {
-    Eigen::Matrix3Xd mp(3, Index(matched_sources.size()));
-    for (size_t i = 0; i < matched_sources.size(); ++i) mp.col(Index(i)) = source.positions().col(matched_sources[i]);
-    KdTree mt;
-    mt.build(mp);
-    tbb::parallel_for(Index(0), source.size(), [&](Index s) {
-      if (r.source_match[size_t(s)] >= 0) return;
-      std::int32_t i;
-      double d2;
-      mt.knn(source.positions().col(s), 1, &i, &d2);
-      r.source_match[size_t(s)] = r.source_match[size_t(matched_sources[size_t(i)])];
-    });
-  }
+  inverse_match(source, r);
   report(progress, 1.0);
   return r;
 }
@@ -505,6 +512,26 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
   for (Index s = 0; s < source.size(); ++s)
     if (d2[size_t(s)] <= distance * distance) out.push_back(std::int32_t(s));
   return out;
+}
+
+CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
+                           const CoverOptions& options) {
+  check_options(options);
+  CoverResult r;
+  r.samples = covered_samples(templ, deformed, options.distance * spacing);
+  r.covered.assign(size_t(templ.size()), 0);
+  for (const auto s : r.samples) r.covered[size_t(s)] = 1;
+  r.source = subset(templ, r.samples);
+  if (Index(r.samples.size()) < options.min_samples)
+    throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +
+                     " template samples: too little of the template to learn from");
+  return r;
+}
+
+void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
+                        double max_ratio) {
+  check_shared_scale(name_a, bounding_box(a.positions()).diagonal(), name_b, bounding_box(b.positions()).diagonal(),
+                     max_ratio);
 }
 
 }  // namespace scanfill

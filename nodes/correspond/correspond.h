@@ -71,6 +71,9 @@ struct CorrespondResult {
 // inputs share a scale). name_a and name_b say which inputs they are ("the exemplar (scan)").
 void check_shared_scale(const std::string& name_a, double diagonal_a, const std::string& name_b, double diagonal_b,
                         double max_ratio);
+// The same for two inputs, by their points' bounding boxes (the engine's check before sampling at a shared alpha).
+void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
+                        double max_ratio);
 
 // exemplar and source: samples with normals, at the same spacing alpha.
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
@@ -87,5 +90,22 @@ Index assign_samples(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& 
 // The source samples within `distance` of any of `points` (ascending): in completion mode, the template samples the
 // registered scan covers, which form the source S.
 std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::Matrix3Xd& points, double distance);
+
+// Completion's source S (DESIGN section 2): the template samples the registered, deformed scan covers.
+struct CoverOptions {
+  double distance = 2.0;   // a template sample within this many alpha of a deformed scan sample is covered; > 0
+  Index min_samples = 30;  // fewer covered samples are too little of the template to learn from; >= 1
+};
+
+struct CoverResult {
+  std::vector<std::int32_t> samples;  // the covered template samples, ascending
+  std::vector<std::uint8_t> covered;  // per template sample: 1 when covered
+  PointSet source;                    // the covered samples with their features: the analogy's source S
+};
+
+// `deformed`: the scan samples after registration and deformation (CorrespondResult::deformed); `spacing`: alpha.
+// Throws InputError when fewer than min_samples are covered, ConfigError naming the key for options out of range.
+CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
+                           const CoverOptions& options);
 
 }  // namespace scanfill

@@ -12,6 +12,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/features/features_options.h"
 
 namespace scanfill {
 namespace {
@@ -212,24 +213,22 @@ Complex connection4(const Eigen::Vector3d& ni, const Eigen::Vector3d& ui, const 
   return c * c;
 }
 
-}  // namespace
+// Per point: its k nearest neighbours (self first), the distance to the farthest, and the PCA normal (unoriented).
+struct Neighbourhoods {
+  std::vector<std::int32_t> knn;  // n * k
+  std::vector<double> radius;
+  Eigen::Matrix3Xd normals;
+};
 
-FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& options, const ProgressFn& progress) {
-  input.check();
-  const Index n = input.size();
-  const int k = options.k;
-  if (n < k + 1)
-    throw InputError("features need at least k + 1 = " + std::to_string(k + 1) + " points, the input has " +
-                     std::to_string(n));
-  FeaturesResult result;
-  const Eigen::Matrix3Xd& P = input.positions();
-  KdTree tree;
-  tree.build(P);
-
-  // kNN lists (self first) and PCA normals.
-  std::vector<std::int32_t> knn(size_t(n * k));
-  std::vector<double> radius(static_cast<size_t>(n));
-  Eigen::Matrix3Xd N(3, n);
+Neighbourhoods pca_normals(const Eigen::Matrix3Xd& P, const KdTree& tree, int k) {
+  const Index n = P.cols();
+  Neighbourhoods out;
+  std::vector<std::int32_t>& knn = out.knn;
+  std::vector<double>& radius = out.radius;
+  Eigen::Matrix3Xd& N = out.normals;
+  knn.resize(size_t(n * k));
+  radius.resize(static_cast<size_t>(n));
+  N.resize(3, n);
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
     std::vector<double> d2(static_cast<size_t>(k));
     for (Index i = r.begin(); i != r.end(); ++i) {
@@ -249,9 +248,16 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
       N.col(i) = eig.eigenvectors().col(0);
     }
   });
-  report(progress, 0.3);
+  return out;
+}
 
-  // Orientation.
+// Flips the normals N to agree with the input's normals, a viewpoint, or each other (propagation), as `options` ask
+// ('auto' picks in that order what the input has). Returns the orientation used.
+NormalOrientation orient_normals(const PointSet& input, const Neighbourhoods& hood, int k,
+                                 const FeaturesOptions& options, Eigen::Matrix3Xd& N) {
+  const Index n = input.size();
+  const Eigen::Matrix3Xd& P = input.positions();
+  const std::vector<std::int32_t>& knn = hood.knn;
   NormalOrientation mode = options.orientation;
   const std::optional<Eigen::Vector3d> viewpoint = options.viewpoint ? options.viewpoint : input.viewpoint();
   if (mode == NormalOrientation::kAuto)
@@ -262,7 +268,6 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
     throw InputError("normal orientation 'input' asked, but the input has no normals");
   if (mode == NormalOrientation::kViewpoint && !viewpoint)
     throw InputError("normal orientation 'viewpoint' asked, but no viewpoint is known (set features.viewpoint)");
-  result.orientation_used = mode;
   if (mode == NormalOrientation::kPropagate) {
     orient_by_propagation(P, N, knn, k);
   } else {
@@ -274,10 +279,14 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
       }
     });
   }
-  report(progress, 0.45);
+  return mode;
+}
 
-  // One tangent frame per point, shared by the curvature fit and the cross field.
-  Eigen::Matrix3Xd U(3, n), V(3, n);
+// One tangent frame (U, V) per point, shared by the curvature fit and the cross field.
+void tangent_frames(const Eigen::Matrix3Xd& N, Eigen::Matrix3Xd& U, Eigen::Matrix3Xd& V) {
+  const Index n = N.cols();
+  U.resize(3, n);
+  V.resize(3, n);
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
     for (Index i = r.begin(); i != r.end(); ++i) {
       Eigen::Vector3d u, v;
@@ -286,12 +295,32 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
       V.col(i) = v;
     }
   });
+}
 
-  // Shape operator fit: dn = S dp in the tangent plane.
-  Eigen::Matrix2Xd K(2, n);
-  Eigen::Matrix3Xd D(3, n);
-  std::vector<std::uint8_t> unreliable(size_t(n), 0);
-  std::vector<Complex> raw(static_cast<size_t>(n));  // exp(4 i theta) of the raw k1 direction in the tangent frame
+// The shape operator fit per point, dn = S dp in the tangent plane: signed principal curvatures K (|k1| >= |k2|),
+// the k1 direction D, whether that direction is unreliable (flat or umbilic), and exp(4 i theta) of it (`raw`).
+struct ShapeOperatorFit {
+  Eigen::Matrix2Xd K;
+  Eigen::Matrix3Xd D;
+  std::vector<std::uint8_t> unreliable;
+  std::vector<Complex> raw;  // exp(4 i theta) of the raw k1 direction in the tangent frame
+};
+
+ShapeOperatorFit fit_shape_operator(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd& N, const Eigen::Matrix3Xd& U,
+                                    const Eigen::Matrix3Xd& V, const Neighbourhoods& hood, int k,
+                                    const FeaturesOptions& options) {
+  const Index n = P.cols();
+  const std::vector<std::int32_t>& knn = hood.knn;
+  const std::vector<double>& radius = hood.radius;
+  ShapeOperatorFit fit;
+  Eigen::Matrix2Xd& K = fit.K;
+  Eigen::Matrix3Xd& D = fit.D;
+  std::vector<std::uint8_t>& unreliable = fit.unreliable;
+  std::vector<Complex>& raw = fit.raw;
+  K.resize(2, n);
+  D.resize(3, n);
+  unreliable.assign(size_t(n), 0);
+  raw.resize(static_cast<size_t>(n));
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
     for (Index i = r.begin(); i != r.end(); ++i) {
       const Eigen::Vector3d ni = N.col(i), u = U.col(i), v = V.col(i);
@@ -329,9 +358,19 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
           std::abs(k1) * h < options.flat_threshold || std::abs(k2) > options.umbilic_ratio * std::abs(k1);
     }
   });
-  report(progress, 0.7);
+  return fit;
+}
 
-  // Cross-field smoothing of the unreliable directions.
+// Replaces the unreliable directions of `fit.D` by a smooth 4-fold cross field (Hertzmann and Zorin 2000): one complex
+// unknown per unreliable point and its neighbours, solved by conjugate gradients; counts them in `result`.
+void smooth_cross_field(const Eigen::Matrix3Xd& N, const Eigen::Matrix3Xd& U, const Eigen::Matrix3Xd& V,
+                        const Neighbourhoods& hood, int k, const FeaturesOptions& options, ShapeOperatorFit& fit,
+                        FeaturesResult& result) {
+  const Index n = N.cols();
+  const std::vector<std::int32_t>& knn = hood.knn;
+  const std::vector<std::uint8_t>& unreliable = fit.unreliable;
+  const std::vector<Complex>& raw = fit.raw;
+  Eigen::Matrix3Xd& D = fit.D;
   for (Index i = 0; i < n; ++i) result.unreliable_directions += unreliable[size_t(i)];
   if (options.smooth_directions && result.unreliable_directions > 0) {
     // Unknowns: unreliable points and their reliable neighbours (soft-constrained); the rest enter as constants.
@@ -416,12 +455,38 @@ FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& o
       }
     });
   }
+}
+
+}  // namespace
+
+FeaturesResult estimate_features(const PointSet& input, const FeaturesOptions& options, const ProgressFn& progress) {
+  check_options(options);  // the config checks these too; a direct caller gets the same checks
+  input.check();
+  const Index n = input.size();
+  const int k = options.k;
+  if (n < k + 1)
+    throw InputError("features need at least k + 1 = " + std::to_string(k + 1) + " points, the input has " +
+                     std::to_string(n));
+  FeaturesResult result;
+  const Eigen::Matrix3Xd& P = input.positions();
+  KdTree tree;
+  tree.build(P);
+  Neighbourhoods hood = pca_normals(P, tree, k);
+  report(progress, 0.3);
+  Eigen::Matrix3Xd N = std::move(hood.normals);
+  result.orientation_used = orient_normals(input, hood, k, options, N);
+  report(progress, 0.45);
+  Eigen::Matrix3Xd U, V;
+  tangent_frames(N, U, V);
+  ShapeOperatorFit fit = fit_shape_operator(P, N, U, V, hood, k, options);
+  report(progress, 0.7);
+  smooth_cross_field(N, U, V, hood, k, options, fit, result);
   report(progress, 1.0);
 
   result.points = input;
   result.points.set_normals(std::move(N));
-  result.points.set_curvatures(std::move(K));
-  result.points.set_directions(std::move(D));
+  result.points.set_curvatures(std::move(fit.K));
+  result.points.set_directions(std::move(fit.D));
   result.points.check();
   return result;
 }

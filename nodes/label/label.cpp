@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "nodes/core/kdtree.h"
+#include "nodes/label/label_options.h"
 
 namespace scanfill {
 namespace {
@@ -36,6 +37,7 @@ double residual_axis_angle(const Eigen::Matrix3d& R) {
 
 LabelResult label_target(const PointSet& source, const PointSet& target,
                          const std::vector<SupportedTransform>& transforms, double spacing, const LabelOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   const Index n = target.size();
   const int L = int(transforms.size());
   LabelResult result;

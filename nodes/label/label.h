@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "nodes/core/point_set.h"
-#include "nodes/label/expansion.h"
+#include "nodes/graphcut/expansion.h"
 #include "nodes/support/support.h"
 
 namespace scanfill {

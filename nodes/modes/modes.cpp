@@ -1,4 +1,5 @@
 #include "nodes/modes/modes.h"
+#include "nodes/modes/modes_options.h"
 
 #include <tbb/parallel_for.h>
 
@@ -15,6 +16,7 @@ double mode_accuracy(const VoteResult& votes, const VoteOptions& vo, const Modes
 }
 
 ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const ModesOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   ModesResult result;
   const Index n = votes.embedding.cols();
   if (n == 0) return result;

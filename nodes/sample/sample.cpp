@@ -14,6 +14,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/sample/sample_options.h"
 
 namespace scanfill {
 namespace {
@@ -169,6 +170,43 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
   return out;
 }
 
+namespace {
+
+// sample()'s phases, defined after it.
+struct Edge {
+  std::int32_t j;
+  std::int32_t w;
+};
+
+// Each candidate's neighbours within d_max (CSR: degree offsets into adjacency) with each edge's contribution to the
+// weight, and each candidate's weight, their sum.
+struct WeightGraph {
+  std::vector<std::int64_t> degree;  // m + 1 offsets into adjacency
+  std::vector<Edge> adjacency;
+  std::vector<std::int64_t> weight;
+};
+
+// The candidates (a mesh's random surface points, or a cloud's own points, thinned when far denser than the samples)
+// and the area they cover (result.area); sets n_target, the number of samples to keep. `input_tree`: a cloud's
+// kd-tree, built here.
+Candidates candidates(const PointSet& input, const SampleOptions& options, KdTree& input_tree, SampleResult& result,
+                      Index& n_target);
+
+// The weight graph of the candidates: neighbours within d_max (normals within the angle when use_normals), each
+// contributing (1 - d/d_max)^exponent in fixed point.
+WeightGraph weights(const Candidates& cand, const KdTree& tree, double d_max, double cos_limit, bool use_normals,
+                    double exponent, const ProgressFn& progress);
+
+// Parallel weighted sample elimination down to n_target survivors; returns them in ascending candidate order.
+std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds, const ProgressFn& progress);
+
+// The surviving candidates as the sampled point set (result.samples), in Morton order for cache-friendly queries
+// downstream, and its measured spacing.
+void survivors(const PointSet& input, const Candidates& cand, const std::vector<std::int32_t>& live, bool use_normals,
+               SampleResult& result);
+
+}  // namespace
+
 Index count_for_spacing(double area, double spacing) {
   return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
 }
@@ -181,9 +219,37 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     throw InputError("sampling needs at least 3 points, the input has " + std::to_string(input.size()));
 
   // Candidates and the area they cover.
-  Candidates cand;
   KdTree input_tree;
-  Index n_target = options.count;
+  Index n_target = 0;
+  const Candidates cand = candidates(input, options, input_tree, result, n_target);
+  report(progress, 0.1);
+  const Index m = cand.positions.cols();
+  result.candidates = m;
+  result.r_max = std::sqrt(result.area / (2.0 * std::sqrt(3.0) * double(n_target)));
+  const double d_max = 2.0 * result.r_max;
+  const double cos_limit = std::cos(options.normal_angle_deg * M_PI / 180.0);
+  const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
+  // A cloud's candidates are its points (unless thinned): then its tree is reused.
+  const bool own_tree = mesh || cand.positions.cols() != input.size();
+  KdTree candidate_tree;
+  if (own_tree) candidate_tree.build(cand.positions);
+  WeightGraph g = weights(cand, own_tree ? candidate_tree : input_tree, d_max, cos_limit, use_normals,
+                          options.weight_exponent, progress);
+  report(progress, 0.3);
+  const std::vector<std::int32_t> live = eliminate(g, n_target, result.rounds, progress);
+  survivors(input, cand, live, use_normals, result);
+  report(progress, 1.0);
+  return result;
+}
+
+namespace {
+
+Candidates candidates(const PointSet& input, const SampleOptions& options, KdTree& input_tree, SampleResult& result,
+                      Index& n_target) {
+  check_options(options);  // sample's first phase: the config checks these too, a direct caller gets the same checks
+  const bool mesh = input.has_faces();
+  Candidates cand;
+  n_target = options.count;
   if (mesh) {
     result.area = surface_area(input.positions(), input.faces());
     if (!(result.area > 0)) throw InputError("mesh has zero surface area; nothing to sample");
@@ -233,15 +299,12 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
       }
     }
   }
-  report(progress, 0.1);
-  const Index m = cand.positions.cols();
-  result.candidates = m;
-  result.r_max = std::sqrt(result.area / (2.0 * std::sqrt(3.0) * double(n_target)));
-  const double d_max = 2.0 * result.r_max;
-  const double cos_limit = std::cos(options.normal_angle_deg * M_PI / 180.0);
-  const bool use_normals = cand.normals.cols() == m && options.normal_angle_deg < 180.0;
-  const double exponent = options.weight_exponent;
+  return cand;
+}
 
+WeightGraph weights(const Candidates& cand, const KdTree& tree, double d_max, double cos_limit, bool use_normals,
+                    double exponent, const ProgressFn& progress) {
+  const Index m = cand.positions.cols();
   // Weights are fixed-point integers (2^-30 units per edge, summed in 64 bits): sums and the atomic subtractions of the
   // parallel rounds are then exact and order-independent, so the result is the same on any number of threads.
   constexpr double kScale = double(std::int32_t(1) << 30);
@@ -263,19 +326,13 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   // Neighbour lists within d_max with each edge's contribution (CSR), built per fixed block and concatenated. The
   // kd-tree visits neighbours in the same order on any thread count, and nanoflann's squared distance is the same
   // bits for (i, j) and (j, i), so the lists and weights are deterministic and symmetric.
-  // A cloud's candidates are its points (unless thinned): then its tree is reused.
-  const bool own_tree = mesh || cand.positions.cols() != input.size();
-  KdTree candidate_tree;
-  if (own_tree) candidate_tree.build(cand.positions);
-  const KdTree& tree = own_tree ? candidate_tree : input_tree;
   const Index n_blocks = (m + kBlock - 1) / kBlock;
-  struct Edge {
-    std::int32_t j;
-    std::int32_t w;
-  };
   std::vector<std::vector<Edge>> block_adj(static_cast<size_t>(n_blocks));
-  std::vector<std::int64_t> degree(size_t(m) + 1, 0);
-  std::vector<std::int64_t> weight(static_cast<size_t>(m), 0);
+  WeightGraph g;
+  std::vector<std::int64_t>& degree = g.degree;
+  std::vector<std::int64_t>& weight = g.weight;
+  degree.assign(size_t(m) + 1, 0);
+  weight.assign(static_cast<size_t>(m), 0);
   std::atomic<Index> blocks_done{0};
   tbb::parallel_for(tbb::blocked_range<Index>(0, n_blocks, 1), [&](const tbb::blocked_range<Index>& br) {
     std::vector<Neighbor> hits;
@@ -298,14 +355,18 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
     }
   });
   std::partial_sum(degree.begin(), degree.end(), degree.begin());
-  std::vector<Edge> adjacency(size_t(degree.back()));
+  std::vector<Edge>& adjacency = g.adjacency;
+  adjacency.resize(size_t(degree.back()));
   tbb::parallel_for(Index(0), n_blocks, [&](Index b) {
     std::copy(block_adj[size_t(b)].begin(), block_adj[size_t(b)].end(),
               adjacency.begin() + degree[size_t(std::min(m, b * kBlock))]);
     std::vector<Edge>().swap(block_adj[size_t(b)]);
   });
-  report(progress, 0.3);
+  return g;
+}
 
+std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds, const ProgressFn& progress) {
+  const Index m = Index(g.weight.size());
   // Parallel elimination rounds over the list of live candidates (compacted after each round).
   std::vector<std::uint8_t> alive(static_cast<size_t>(m), 1);
   // A live heavier neighbour found in an earlier round: weights only fall, so it usually still blocks, in O(1).
@@ -316,6 +377,9 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   std::vector<std::int64_t> scratch;
   std::vector<Index> maxima;
   const Index excess0 = m - n_target;
+  std::vector<std::int64_t>& weight = g.weight;
+  const std::vector<std::int64_t>& degree = g.degree;
+  const std::vector<Edge>& adjacency = g.adjacency;
   auto heavier = [&](Index a, Index b) {  // strict order on (weight, index)
     return weight[size_t(a)] > weight[size_t(b)] || (weight[size_t(a)] == weight[size_t(b)] && a < b);
   };
@@ -369,13 +433,18 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
       }
     });
     live.erase(std::remove_if(live.begin(), live.end(), [&](std::int32_t i) { return !alive[size_t(i)]; }), live.end());
-    ++result.rounds;
+    ++rounds;
     report(progress,
            0.3 + 0.6 * double(excess0 - (Index(live.size()) - n_target)) / double(std::max<Index>(excess0, 1)));
   }
 
-  // Survivors, in Morton order for cache-friendly queries downstream.
+  return live;
+}
+
+void survivors(const PointSet& input, const Candidates& cand, const std::vector<std::int32_t>& live, bool use_normals,
+               SampleResult& result) {
   const std::vector<Index> kept(live.begin(), live.end());  // ascending candidate order
+  const bool mesh = input.has_faces();
   const Index n = Index(kept.size());
   Eigen::Matrix3Xd pos(3, n);
   for (Index k = 0; k < n; ++k) pos.col(k) = cand.positions.col(kept[size_t(k)]);
@@ -406,8 +475,8 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
   KdTree out_tree;
   out_tree.build(out.positions());
   if (n >= 2) result.spacing = mean_nearest_neighbor_distance(out.positions(), out_tree);
-  report(progress, 1.0);
-  return result;
 }
+
+}  // namespace
 
 }  // namespace scanfill

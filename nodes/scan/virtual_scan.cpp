@@ -7,16 +7,33 @@
 #include <random>
 
 #include "nodes/core/errors.h"
+#include "nodes/scan/virtual_scan_options.h"
 
 namespace scanfill {
+
+Eigen::Vector3d default_up(const Eigen::Vector3d& forward) {
+  return std::abs(forward.normalized().z()) > 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+}
+
+ScanOptions default_camera(const PointSet& mesh, const Eigen::Vector3d& eye,
+                           const std::optional<Eigen::Vector3d>& target, const std::optional<Eigen::Vector3d>& up) {
+  ScanOptions o;
+  o.eye = eye;
+  if (target) {
+    o.target = *target;
+  } else {
+    const BoundingBox box = bounding_box(mesh.positions());
+    o.target = (box.min + box.max) / 2;
+  }
+  o.up = up ? *up : default_up(o.target - o.eye);
+  return o;
+}
 
 ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& o) {
   if (!mesh.has_faces()) throw InputError("the virtual scanner needs a mesh (faces), not a point cloud");
   const Eigen::Vector3d forward = (o.target - o.eye).normalized();
   if (!forward.allFinite()) throw InputError("scanner eye and target coincide");
-  Eigen::Vector3d up = o.up;
-  if (forward.cross(up).norm() < 1e-9)
-    up = std::abs(forward.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d up = forward.cross(o.up).norm() < 1e-9 ? default_up(forward) : o.up;
   const Eigen::Vector3d right = forward.cross(up).normalized(), cam_up = right.cross(forward);
   const double tan_half = std::tan(o.fov_deg * M_PI / 360.0), aspect = double(o.width) / double(o.height);
   const double near = 1e-9;
@@ -94,6 +111,25 @@ ScanResult virtual_scan(const PointSet& mesh, const ScanOptions& o) {
   result.points.set_normals(std::move(Nm));
   result.points.set_viewpoint(o.eye);
   return result;
+}
+
+LoadResult virtual_scan_input(LoadResult load, const VirtualScanOptions& options, const std::string& name) {
+  if (!options.eye) return load;
+  check_options(options);
+  if (!load.points.has_faces())
+    throw InputError(name + ": virtual_scan needs a mesh (triangles), got a point cloud of " +
+                     std::to_string(load.points.size()) + " points");
+  ScanOptions o = default_camera(load.points, *options.eye, options.target, options.up);
+  o.width = options.width;
+  o.height = options.height;
+  o.fov_deg = options.fov_deg;
+  o.noise = options.noise;
+  o.seed = options.seed;
+  ScanResult scan = virtual_scan(load.points, o);
+  load.points = std::move(scan.points);
+  load.format += " (virtual scan)";
+  load.file_points = load.points.size();
+  return load;
 }
 
 }  // namespace scanfill

@@ -10,6 +10,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/synthesize/synthesize_options.h"
 
 namespace scanfill {
 namespace {
@@ -219,6 +220,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
 }  // namespace
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   const PointSet& E = in.exemplar;
   const PointSet& T = in.target;
   if (!E.has_normals() || !T.has_normals()) throw InvariantError("synthesize needs exemplar and target normals");

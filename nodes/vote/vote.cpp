@@ -8,6 +8,7 @@
 #include <random>
 
 #include "nodes/core/errors.h"
+#include "nodes/vote/vote_options.h"
 
 namespace scanfill {
 namespace {
@@ -57,6 +58,7 @@ Similarity unembed(const Eigen::Matrix<double, 13, 1>& x, const VoteResult& f, c
 }
 
 VoteResult vote(const PointSet& source, const PointSet& target, double spacing, const VoteOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
   for (const PointSet* p : {&source, &target})
     if (!p->has_normals() || !p->has_curvatures() || !p->has_directions())
       throw InputError("voting needs normals, curvatures and directions on both shapes (run features first)");

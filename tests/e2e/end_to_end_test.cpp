@@ -26,8 +26,8 @@ struct Scores {
 RunConfig completion_config(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
                             const Eigen::Vector3d& target, const std::filesystem::path& out) {
   RunConfig c;
-  c.mode = "completion";
-  c.inputs = {{"scan", "procedural:" + shape, {}, shape}, {"template", "procedural:" + templ, {}, templ}};
+  c.mode = RunMode::kCompletion;
+  c.inputs = {{Role::kScan, parse_input("procedural:" + shape)}, {Role::kTemplate, parse_input("procedural:" + templ)}};
   c.output_dir = out;
   c.virtual_scan.eye = eye;
   c.virtual_scan.target = target;
@@ -46,7 +46,7 @@ void complete_and_score(const std::string& shape, const std::string& templ, cons
   setup_logging(false, true);
   test::TempDir dir;
   const RunConfig c = completion_config(shape, templ, eye, target, dir / "out");
-  run_pipeline(c);
+  run(c);
   const PointSet reference = make_shape(shape), template_mesh = make_shape(templ);
   ScanOptions so;
   so.eye = eye;
@@ -85,12 +85,12 @@ TEST(EndToEnd, FurnitureTransferGetsTheExemplarsLegsOnANewStructure) {
   setup_logging(false, true);
   test::TempDir dir;
   RunConfig c;
-  c.mode = "transfer";
-  c.inputs = {{"source", "procedural:table_template", {}, "table_template"},
-              {"target", "procedural:bench_template", {}, "bench_template"},
-              {"exemplar", "procedural:table", {}, "table"}};
+  c.mode = RunMode::kTransfer;
+  c.inputs = {{Role::kSource, parse_input("procedural:table_template")},
+              {Role::kTarget, parse_input("procedural:bench_template")},
+              {Role::kExemplar, parse_input("procedural:table")}};
   c.output_dir = dir / "out";
-  run_pipeline(c);
+  run(c);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
   EXPECT_GT(output.faces().cols(), 0);  // a mesh exemplar gives a mesh
   const PointSet styled = make_bench();
@@ -106,9 +106,9 @@ TEST(EndToEnd, TheSameInputGivesTheSameOutput) {
   test::TempDir dir;
   RunConfig c = completion_config("gear", "gear_template", {0, -2.2, 1.2}, {0, 0, 0.075}, dir / "a");
   c.sample.count = 6000;
-  run_pipeline(c);
+  run(c);
   c.output_dir = dir / "b";
-  run_pipeline(c);
+  run(c);
   EXPECT_EQ(test::read_bytes(dir / "a" / "output.ply"), test::read_bytes(dir / "b" / "output.ply"));
 }
 
@@ -124,7 +124,7 @@ RealScores run_real(const std::string& config_name, const PointSet& reference, c
   test::TempDir dir;
   RunConfig c = load_config(test::source_dir() / "configs" / config_name);
   c.output_dir = dir / "out";
-  run_pipeline(c);
+  run(c);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
   const double tau = 0.01 * bounding_box(reference.positions()).diagonal();
   RealScores r{score(output, reference, scan, templ), score(scan, reference, scan, templ),
@@ -166,12 +166,13 @@ std::string refusal(const PointSet& scan, const PointSet& templ) {
   write_ply(dir / "scan.ply", scan);
   write_ply(dir / "template.ply", templ);
   RunConfig c;
-  c.mode = "completion";
-  c.inputs = {{"scan", "scan.ply", dir / "scan.ply", ""}, {"template", "template.ply", dir / "template.ply", ""}};
+  c.mode = RunMode::kCompletion;
+  c.inputs = {{Role::kScan, parse_input("scan.ply", dir.path())},
+              {Role::kTemplate, parse_input("template.ply", dir.path())}};
   c.output_dir = dir / "out";
   c.sample.count = 4000;
   try {
-    run_pipeline(c);
+    run(c);
   } catch (const Error& e) {
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
     return e.what();

@@ -30,9 +30,9 @@ TEST(Config, ReadsEveryKeyAndResolvesPathsAgainstTheConfigFile) {
                     "  viewpoint: [1, 2, 3]\n");
   const RunConfig c = load_config(dir / "c.yaml");
   ASSERT_EQ(c.inputs.size(), 2u);
-  EXPECT_EQ(c.inputs[0].role, "scan");
-  EXPECT_EQ(c.inputs[0].path, dir / "scan.xyz");
-  EXPECT_EQ(c.inputs[1].procedural, "cylinder");
+  EXPECT_EQ(c.inputs[0].role, Role::kScan);
+  EXPECT_EQ(c.inputs[0].spec.path, dir / "scan.xyz");
+  EXPECT_EQ(c.inputs[1].spec.procedural, "cylinder");
   EXPECT_EQ(c.output_dir, "o");
   EXPECT_EQ(c.threads, 1);
   EXPECT_EQ(c.sample.count, 500);

@@ -16,8 +16,9 @@ namespace {
 
 RunConfig small_config(const std::filesystem::path& out) {
   RunConfig c;
-  c.mode = "completion";
-  c.inputs = {{"scan", "procedural:vase", {}, "vase"}, {"template", "procedural:vase_template", {}, "vase_template"}};
+  c.mode = RunMode::kCompletion;
+  c.inputs = {{Role::kScan, parse_input("procedural:vase")},
+              {Role::kTemplate, parse_input("procedural:vase_template")}};
   c.output_dir = out;
   c.sample.count = 3000;
   return c;
@@ -26,7 +27,7 @@ RunConfig small_config(const std::filesystem::path& out) {
 TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
-  const RunOutcome outcome = run_pipeline(small_config(dir / "out"));
+  const RunOutcome outcome = run(small_config(dir / "out"));
   ASSERT_EQ(outcome.outputs.size(), 5u);  // samples_scan, samples_template, output, analogy, report
   const LoadResult templ = read_point_set(dir / "out" / "samples_template.ply");
   EXPECT_EQ(templ.points.size(), 3000);
@@ -43,7 +44,7 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
   for (const char* n :
        {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template",
-        "correspond", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
+        "correspond", "cover", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
     EXPECT_TRUE(names.count(n)) << n;
   // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label.
   const std::string ply = test::read_bytes(dir / "out" / "output.ply");
@@ -58,7 +59,7 @@ TEST(Pipeline, AnalogyModeWritesTheLabelledTargetAndTheTransforms) {
   test::TempDir dir;
   RunConfig c = load_config(test::source_dir() / "configs" / "analogy_l.yaml");
   c.output_dir = dir / "out";
-  run_pipeline(c);
+  run(c);
   const std::string ply = test::read_bytes(dir / "out" / "analogy.ply");
   EXPECT_NE(ply.find("property int label\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"),
             std::string::npos);
@@ -86,9 +87,9 @@ TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
   test::TempDir dir;
   test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");  // loads, too few to sample
   RunConfig c = small_config(dir / "out");
-  c.inputs[0] = {"scan", "tiny.xyz", dir / "tiny.xyz", ""};
+  c.inputs[0] = {Role::kScan, parse_input("tiny.xyz", dir.path())};
   try {
-    run_pipeline(c);
+    run(c);
     FAIL();
   } catch (const Error& e) {
     const std::string what = e.what();

@@ -168,5 +168,18 @@ TEST(Sample, RefusesWhatTheInputCannotGive) {
   EXPECT_THROW(sample(flat, {}), InputError);
 }
 
+TEST(Sample, ChecksItsOwnOptionsNamingTheKey) {
+  // The config's range checks run at the node's entry too, so a direct caller cannot bypass them.
+  const PointSet plane = make_plane(1.0, 8);
+  try {
+    sample(plane, {.count = 0, .oversampling = 1.0});
+    FAIL();
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("sample.count: expected an integer >= 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("sample.oversampling: expected a number in [2, 100]"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace scanfill

@@ -73,5 +73,20 @@ TEST(VirtualScan, RefusesCloudsAndEmptyViews) {
   EXPECT_THROW(virtual_scan(make_sphere(0.5, 16), away), InputError);
 }
 
+TEST(VirtualScan, DefaultCameraLooksAtTheBoxCentreWithZUpUnlessLookingAlongZ) {
+  const PointSet box = make_box(Eigen::Vector3d(2, 2, 4));  // centred at the origin
+  const ScanOptions side = default_camera(transformed(box, {Eigen::Matrix3d::Identity(), {1, 2, 3}, 1}),
+                                          Eigen::Vector3d(1, -5, 3), std::nullopt, std::nullopt);
+  EXPECT_TRUE(side.target.isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_EQ(side.up, Eigen::Vector3d::UnitZ());
+  // Within about 8 degrees of the z axis (|forward.z| > 0.99) +z would leave the image frame ill-defined: +y.
+  EXPECT_EQ(default_camera(box, {0, 0.1, 5}, Eigen::Vector3d::Zero(), std::nullopt).up, Eigen::Vector3d::UnitY());
+  EXPECT_EQ(default_camera(box, {0, 1, 5}, Eigen::Vector3d::Zero(), std::nullopt).up, Eigen::Vector3d::UnitZ());
+  // What the config gives is kept.
+  const ScanOptions given = default_camera(box, {0, 0, 5}, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::UnitX());
+  EXPECT_EQ(given.target, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(given.up, Eigen::Vector3d::UnitX());
+}
+
 }  // namespace
 }  // namespace scanfill

@@ -1,6 +1,6 @@
 // Our Boykov-Kolmogorov max-flow against Boost.Graph's implementation (a test oracle only: the library no longer
 // uses it) on random graphs and grids, and the cut it reports against its own flow value.
-#include "nodes/label/max_flow.h"
+#include "nodes/graphcut/max_flow.h"
 
 #include <gtest/gtest.h>
 

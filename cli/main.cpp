@@ -15,6 +15,7 @@
 #include "engine/pipeline.h"
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
+#include "nodes/input/input.h"
 #include "nodes/io/write_ply.h"
 #include "nodes/scan/virtual_scan.h"
 
@@ -68,28 +69,11 @@ int run_info(const std::string& file, bool json) {
   return 0;
 }
 
-// A file, or procedural:NAME (as in configs).
-PointSet load_shape(const std::string& text) {
-  InputSpec spec;
-  spec.text = text;
-  std::string file = text;
-  if (file.rfind("revolution:", 0) == 0) {
-    spec.revolution = true;
-    file = file.substr(11);
-  }
-  if (file.rfind("procedural:", 0) == 0)
-    spec.procedural = file.substr(11);
-  else
-    spec.path = file;
-  LoadResult r = load_input(spec, LoadOptions{});
-  for (const auto& w : r.warnings) spdlog::warn("{}", w);
-  return r.points;
-}
-
+// `input`: any form a config takes (a file, procedural:NAME, revolution:...).
 int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
                int k) {
-  const bool generated = input.rfind("procedural:", 0) == 0 || input.rfind("revolution:", 0) == 0;
-  if (!generated && !is_supported_extension(input))
+  const InputSpec spec = parse_input(input);
+  if (spec.procedural.empty() && !is_supported_extension(spec.path))
     return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)", 2);
   if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
   SampleOptions so;
@@ -98,9 +82,10 @@ int run_sample(const std::string& input, const std::string& output, double spaci
   so.seed = seed;
   FeaturesOptions fo;
   fo.k = k;
-  const PointSet loaded = load_shape(input);
+  const LoadResult loaded = load_input(spec);
+  for (const auto& w : loaded.warnings) spdlog::warn("{}", w);
   Progress::instance().start("sample");
-  const SampleResult s = sample(loaded, so, [](double f) { Progress::instance().update("sample", f); });
+  const SampleResult s = sample(loaded.points, so, [](double f) { Progress::instance().update("sample", f); });
   Progress::instance().finish("sample");
   for (const auto& w : s.warnings) spdlog::warn("{}", w);
   Progress::instance().start("features");
@@ -112,6 +97,13 @@ int run_sample(const std::string& input, const std::string& output, double spaci
   spdlog::info("{} samples (spacing {:.4g}) from {} with normals, k1 k2, d1 -> {}", f.points.size(), s.spacing, input,
                output);
   return 0;
+}
+
+// Any input form a config takes (a file, procedural:NAME, revolution:...).
+PointSet load_shape(const std::string& text) {
+  LoadResult r = load_input(parse_input(text));
+  for (const auto& w : r.warnings) spdlog::warn("{}", w);
+  return r.points;
 }
 
 int run_eval(const std::string& output, const std::string& reference, double threshold, const std::string& scan,
@@ -220,7 +212,7 @@ int main(int argc, char** argv) {
   Index s_count = 0;
   std::uint64_t s_seed = 1;
   int s_k = FeaturesOptions{}.k;
-  samp->add_option("--input", s_in, "point cloud or mesh")->required();
+  samp->add_option("--input", s_in, "point cloud or mesh (file, procedural:NAME or revolution:FILE)")->required();
   samp->add_option("--output", s_out, "output .ply (x y z nx ny nz k1 k2 d1x d1y d1z)")->required();
   auto* sp = samp->add_option("--spacing", s_spacing, "mean sample spacing, model units")->check(CLI::PositiveNumber);
   auto* ct = samp->add_option("--count", s_count, "number of samples (default 20000)")->check(CLI::PositiveNumber);
@@ -248,7 +240,7 @@ int main(int argc, char** argv) {
   std::string c_in, c_out, c_eye, c_target, c_resolution;
   double c_fov = ScanOptions{}.fov_deg, c_noise = 0;
   std::uint64_t c_seed = 1;
-  sc->add_option("--input", c_in, "the mesh (file or procedural:NAME)")->required();
+  sc->add_option("--input", c_in, "the mesh (file, procedural:NAME or revolution:FILE)")->required();
   sc->add_option("--output", c_out, "output .ply (x y z nx ny nz; viewpoint = the eye)")->required();
   sc->add_option("--eye", c_eye, "camera position X,Y,Z")->required();
   sc->add_option("--target", c_target, "point looked at X,Y,Z (default 0,0,0)");
@@ -298,9 +290,9 @@ int main(int argc, char** argv) {
     }
     if (threads > 0) config.threads = threads;
     const auto limit = limit_threads(config.threads);
-    spdlog::info("{} run of {} on {} threads", config.mode, config_path,
+    spdlog::info("{} run of {} on {} threads", mode_name(config.mode), config_path,
                  tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    const RunOutcome outcome = run_pipeline(config);
+    const RunOutcome outcome = run(config);
     std::cout << outcome.summary;
     for (const auto& out : outcome.outputs) std::cout << "  wrote " << out.string() << "\n";
     std::cout << "  peak memory " << int(peak_rss_mb()) << " MiB" << std::endl;

@@ -1,11 +1,11 @@
-#include "nodes/label/expansion.h"
+#include "nodes/graphcut/expansion.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "nodes/core/errors.h"
-#include "nodes/label/binary_energy.h"
+#include "nodes/graphcut/binary_energy.h"
 
 namespace scanfill {
 namespace {

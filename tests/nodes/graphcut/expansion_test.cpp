@@ -1,12 +1,12 @@
 // alpha-expansion with label costs against brute force on tiny random problems (4-8 sites, 3 labels).
-#include "nodes/label/expansion.h"
+#include "nodes/graphcut/expansion.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "nodes/core/errors.h"
-#include "nodes/label/binary_energy.h"
+#include "nodes/graphcut/binary_energy.h"
 
 namespace scanfill {
 namespace {

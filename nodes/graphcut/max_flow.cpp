@@ -1,4 +1,4 @@
-#include "nodes/label/max_flow.h"
+#include "nodes/graphcut/max_flow.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "nodes/label/binary_energy.h"
+#include "nodes/graphcut/binary_energy.h"
 
 #include "nodes/core/errors.h"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "nodes/core/point_set.h"
-#include "nodes/label/max_flow.h"
+#include "nodes/graphcut/max_flow.h"
 
 namespace scanfill {
 

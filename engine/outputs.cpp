@@ -1,0 +1,221 @@
+#include "engine/outputs.h"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "nodes/core/errors.h"
+#include "nodes/io/write_ply.h"
+
+namespace scanfill {
+namespace {
+
+nlohmann::json json_vec(const Eigen::Vector3d& v) {
+  return nlohmann::json::array({v.x(), v.y(), v.z()});
+}
+
+nlohmann::json rotation_json(const Eigen::Matrix3d& R) {
+  nlohmann::json rotation = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) rotation.push_back({R(r, 0), R(r, 1), R(r, 2)});
+  return rotation;
+}
+
+nlohmann::json transform_json(int label, const char* kind, const Similarity& q, Index support, Index labelled) {
+  return {{"label", label},
+          {"kind", kind},
+          {"rotation", rotation_json(q.rotation)},
+          {"rotation_deg", rotation_angle(q.rotation) * 180 / M_PI},
+          {"rotation_axis", json_vec(rotation_axis(q.rotation))},
+          {"axis_rotation", is_axis_rotation(q.rotation, M_PI / 180)},
+          {"translation", json_vec(q.translation)},
+          {"scale", q.scale},
+          {"support", support},
+          {"labelled", labelled}};
+}
+
+// A colour per label (golden-ratio hues), grey for the self-reference.
+std::array<double, 3> label_colour(int label, int self_label) {
+  if (label == self_label) return {128, 128, 128};
+  const double h = std::fmod(0.61803398875 * label + 0.1, 1.0) * 6.0;
+  const double x = 1 - std::abs(std::fmod(h, 2.0) - 1);
+  std::array<double, 3> rgb{};
+  const int sector = int(h);
+  const double table[6][3] = {{1, x, 0}, {x, 1, 0}, {0, 1, x}, {0, x, 1}, {x, 0, 1}, {1, 0, x}};
+  for (int k = 0; k < 3; ++k) rgb[size_t(k)] = std::round(40 + 215 * table[sector % 6][k]);
+  return rgb;
+}
+
+// samples_ROLE.ply per input; the report's inputs.
+nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
+  const RunConfig& config = state.config;
+  nlohmann::json inputs = nlohmann::json::object();
+  for (size_t slot = 0; slot < config.inputs.size(); ++slot) {
+    const Featured& f = *state.inputs()[slot];
+    const Loaded& loaded = *f.sampled->loaded;
+    const LoadResult& load = loaded.load;
+    const std::string role = role_name(config.inputs[slot].role);
+    const std::filesystem::path out = config.output_dir / ("samples_" + role + ".ply");
+    write_ply(out, f.features.points);
+    outcome.outputs.push_back(out);
+    inputs[role] = {{"path", input_name(config.inputs[slot].spec)},
+                    {"format", load.format},
+                    {"points", load.points.size()},
+                    {"faces", load.points.faces().cols()},
+                    {"dropped_nonfinite", load.dropped_nonfinite},
+                    {"bbox", {json_vec(loaded.box.min), json_vec(loaded.box.max)}},
+                    {"samples", f.features.points.size()},
+                    {"spacing", f.sampled->sample.spacing},
+                    {"unreliable_directions", f.features.unreliable_directions}};
+  }
+  return inputs;
+}
+
+// output.ply; the report's output, synthesis and correspondence.
+void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
+  const RunConfig& config = state.config;
+  const TransferResult& o = t.output;
+  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
+  Index by_origin[3] = {0, 0, 0};
+  for (size_t i = 0; i < o.origin.size(); ++i) {
+    origin[i] = double(int(o.origin[i]));
+    ++by_origin[int(o.origin[i])];
+  }
+  const std::filesystem::path out = config.output_dir / "output.ply";
+  write_ply(out, o.points,
+            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
+  outcome.outputs.push_back(out);
+  report["output"] = {{"points", o.points.size()},
+                      {"faces", o.points.faces().cols()},
+                      {"exemplar_points", by_origin[0]},
+                      {"synthesized_points", by_origin[1]},
+                      {"copied_points", by_origin[2]}};
+  const Synthesized& s = *t.aligned->synthesized;
+  const Synthesis& syn = s.synthesis;
+  const AlignResult& al = t.aligned->alignment;
+  report["synthesis"] = {{"samples", syn.points.size()},         {"patches", syn.patches.size()},
+                         {"gap_copies", syn.gap_copies},         {"seam_pairs", al.seam_pairs},
+                         {"seam_gap_before", al.gap_before},     {"seam_gap_after", al.gap_after},
+                         {"refinement_deg", syn.refinement_deg}, {"refinement_shift", syn.refinement_shift}};
+  const CorrespondResult& m = s.correspondence->map;
+  report["correspondence"] = {
+      {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},
+      {"rigid_rms", m.rigid_rms},
+      {"matched", m.matched},
+      {"exemplar_samples", m.exemplar_match.size()},
+      {"deformed_rms", m.deformed_rms}};
+  if (s.coverage) report["correspondence"]["covered_template_samples"] = Index(s.coverage->cover.samples.size());
+}
+
+// analogy.ply, the target samples coloured by transform; the report's transforms.
+nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcome& outcome) {
+  const LabelResult& L = a.labels;
+  const auto& transforms = a.supports->support.transforms;
+  std::vector<Index> count(size_t(L.self_label) + 1, 0);
+  for (int l : L.labels) ++count[size_t(l)];
+  nlohmann::json list = nlohmann::json::array();
+  for (int l = 0; l < L.self_label; ++l)
+    list.push_back(transform_json(l, "similarity", transforms[size_t(l)].transform,
+                                  Index(transforms[size_t(l)].support.size()), count[size_t(l)]));
+  list.push_back(
+      transform_json(L.self_label, "self", Similarity{}, count[size_t(L.self_label)], count[size_t(L.self_label)]));
+  std::vector<double> label(L.labels.begin(), L.labels.end());
+  std::vector<double> rgb[3];
+  for (int l : L.labels) {
+    const auto c = label_colour(l, L.self_label);
+    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
+  }
+  const std::filesystem::path out = state.config.output_dir / "analogy.ply";
+  write_ply(out, a.votes().target->features.points,
+            {{"label", PlyProperty::Type::kInt32, label},
+             {"red", PlyProperty::Type::kUint8, rgb[0]},
+             {"green", PlyProperty::Type::kUint8, rgb[1]},
+             {"blue", PlyProperty::Type::kUint8, rgb[2]}});
+  outcome.outputs.push_back(out);
+  return list;
+}
+
+// The symmetries found and the candidates they gave (DESIGN section 9).
+nlohmann::json symmetry_json(const Labelled& a) {
+  const auto axes = [](const SymmetryResult& sym) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& ax : sym.axes)
+      list.push_back({{"order", ax.order}, {"direction", json_vec(ax.direction)}, {"centre", json_vec(ax.centre)}});
+    return list;
+  };
+  const Symmetries& s = *a.votes().symmetries;
+  return {{"source_axes", axes(s.source_symmetry)},
+          {"target_axes", axes(s.target_symmetry)},
+          {"target_rotations", s.target_symmetry.rotations.size()},
+          {"votes_quotiented", bool(s.source_symmetry.continuous)},
+          {"voted_transforms", a.supports->voted},
+          {"composed_candidates", a.supports->composed}};
+}
+
+std::string summary(const RunConfig& config, const nlohmann::json& report, bool has_output) {
+  std::ostringstream s;
+  const bool completion = config.mode == RunMode::kCompletion;
+  if (has_output) {
+    const auto& o = report["output"];
+    const auto& transforms = report["transforms"];
+    const Index used = std::count_if(transforms.begin(), transforms.end(), [](const nlohmann::json& t) {
+      return t["kind"] == "similarity" && t["labelled"].get<Index>() > 0;
+    });
+    s << "scanfill: " << (completion ? "completed scan" : "stylised model") << ": " << o["points"].get<Index>()
+      << " points";
+    if (o["faces"].get<Index>() > 0) s << ", " << o["faces"].get<Index>() << " triangles";
+    s << " (" << o["exemplar_points"].get<Index>() << " from the " << (completion ? "scan" : "exemplar") << ", "
+      << o["synthesized_points"].get<Index>() << " synthesised by " << used << " transforms, "
+      << o["copied_points"].get<Index>() << " copied from the " << (completion ? "template" : "target") << ")\n"
+      << "  output.ply: vertex 'origin' 0 = " << (completion ? "scan" : "exemplar")
+      << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json)\n"
+      << "  analogy.ply: the " << (completion ? "template" : "target")
+      << " samples coloured by transform (grey = self-reference)\n"
+      << "  score it: scanfill eval --output " << (config.output_dir / "output.ply").string() << " --reference "
+      << (completion && config.virtual_scan.eye ? input_name(input_for(config, Role::kScan).spec) : "COMPLETE_MODEL")
+      << "\n";
+  } else {
+    s << "scanfill: analogy of " << config.inputs.size()
+      << " inputs: analogy.ply holds the target samples coloured by transform (grey = self-reference)\n";
+  }
+  return s.str();
+}
+
+}  // namespace
+
+RunOutcome write_outputs(RunState& state) {
+  const RunConfig& config = state.config;
+  RunOutcome outcome;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::error_code ec;
+  std::filesystem::create_directories(config.output_dir, ec);
+  if (ec) throw IoError(config.output_dir.string() + ": cannot create the output folder (" + ec.message() + ")");
+  nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
+  if (state.output()) write_output(state, *state.output(), report, outcome);
+  nlohmann::json transforms = nlohmann::json::array();
+  nlohmann::json energy = nullptr;
+  if (state.analogy()) {
+    transforms = write_analogy(state, *state.analogy(), outcome);
+    energy = {{"before", state.analogy()->labels.energy_before}, {"after", state.analogy()->labels.energy_after}};
+    report["symmetry"] = symmetry_json(*state.analogy());
+  }
+  state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+
+  nlohmann::json node_list = nlohmann::json::array();
+  for (const auto& t : state.timings()) node_list.push_back({{"name", t.name}, {"wall_s", t.wall_s}});
+  report["transforms"] = transforms;
+  report["energy"] = energy;
+  report["nodes"] = node_list;
+  report["peak_rss_mb"] = peak_rss_mb();
+  report["warnings"] = state.warnings();
+  const std::filesystem::path report_path = config.output_dir / "report.json";
+  write_file_atomic(report_path, report.dump(2) + "\n");
+  outcome.outputs.push_back(report_path);
+  outcome.summary = summary(config, report, bool(state.output()));
+  outcome.nodes = state.timings();
+  outcome.warnings = state.warnings();
+  return outcome;
+}
+
+}  // namespace scanfill

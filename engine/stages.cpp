@@ -1,0 +1,303 @@
+#include "engine/stages.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "engine/console.h"
+#include "engine/fields.h"
+#include "nodes/core/errors.h"
+#include "nodes/scan/virtual_scan.h"
+
+namespace scanfill {
+
+void RunState::record(const std::string& name, double seconds) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  timings_.push_back({name, seconds});
+}
+
+void RunState::warn(const std::string& node, const std::string& what) {
+  node_logger(node)->warn("{}", what);
+  std::lock_guard<std::mutex> lock(mutex_);
+  warnings_.push_back(node + ": " + what);
+}
+
+void RunState::keep(FeaturedPtr f) {
+  const Input& input = f->sampled->loaded->input;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (size_t slot = 0; slot < config.inputs.size(); ++slot)
+    if (config.inputs[slot].role == input.role) inputs_[slot] = std::move(f);
+}
+
+void RunState::keep(LabelledPtr a) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  analogy_ = std::move(a);
+}
+
+void RunState::keep(TransferredPtr t) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  output_ = std::move(t);
+}
+
+namespace {
+
+// Runs `body` as node `name`: progress, timing, and the node's name on any error.
+template <class F>
+auto run_node(RunState& state, const std::string& name, const std::string& subject, F&& body) {
+  Progress::instance().start(name);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ProgressFn progress = [name](double f) { Progress::instance().update(name, f); };
+  try {
+    auto out = body(progress);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    state.record(name, s);
+    Progress::instance().finish(name);
+    return out;
+  } catch (const std::exception& e) {
+    Progress::instance().finish(name);
+    throw Error("node '" + name + "' failed" + (subject.empty() ? "" : " on " + subject) + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+LoadedPtr load_stage(RunState& state, const Input& input) {
+  const std::string role = role_name(input.role), name = "load:" + role, subject = input_name(input.spec);
+  return run_node(state, name, subject, [&](const ProgressFn&) {
+    LoadResult load = load_input(input.spec, state.config.load);
+    if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), state.config.virtual_scan, subject);
+    const BoundingBox box = input_bounds(load);
+    auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});
+    for (const auto& w : loaded->load.warnings) state.warn(name, w);
+    node_logger("load")->info("{}: {} points, {} faces ({} {}) from {}", role, loaded->load.points.size(),
+                              loaded->load.points.faces().cols(), loaded->load.format, loaded->load.encoding, subject);
+    return LoadedPtr(std::move(loaded));
+  });
+}
+
+SampledPtr sample_stage(RunState& state, const LoadedPtr& in, const SampledPtr& reference) {
+  const RunConfig& config = state.config;
+  const std::string role = role_name(in->input.role), name = "sample:" + role;
+  return run_node(state, name, input_name(in->input.spec), [&](const ProgressFn& progress) {
+    SampleOptions options = config.sample;
+    if (reference) {
+      // All inputs share one spacing alpha (the paper's) and so must share a scale (paper section 3): checked before
+      // sampling at a spacing that would mean nothing.
+      const Loaded& ref = *reference->loaded;
+      check_shared_scale("the " + role, in->load.points, "the " + role_name(ref.input.role), ref.load.points,
+                         config.correspond.max_scale_ratio);
+      if (config.sample.spacing <= 0) {
+        options.spacing = reference->sample.spacing;
+        options.all_points_when_sparse = true;  // a scan sparser than the template's alpha is used as it is
+      }
+    }
+    auto out = std::make_shared<Sampled>(Sampled{in, sample(in->load.points, options, progress)});
+    for (const auto& w : out->sample.warnings) state.warn(name, w);
+    node_logger("sample")->info("{}: {} samples from {} candidates, spacing {:.4g}, {} rounds", role,
+                                out->sample.samples.size(), out->sample.candidates, out->sample.spacing,
+                                out->sample.rounds);
+    return SampledPtr(std::move(out));
+  });
+}
+
+FeaturedPtr features_stage(RunState& state, const SampledPtr& in) {
+  const std::string role = role_name(in->loaded->input.role), name = "features:" + role;
+  return run_node(state, name, input_name(in->loaded->input.spec), [&](const ProgressFn& progress) {
+    auto out = std::make_shared<Featured>(
+        Featured{in, estimate_features(in->sample.samples, state.config.features, progress)});
+    for (const auto& w : out->features.warnings) state.warn(name, w);
+    node_logger("features")
+        ->info("{}: normals oriented by '{}', {} unreliable directions smoothed ({} CG iterations)", role,
+               to_string(out->features.orientation_used), out->features.unreliable_directions,
+               out->features.iterations);
+    state.keep(out);
+    return FeaturedPtr(std::move(out));
+  });
+}
+
+CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar, const FeaturedPtr& source) {
+  return run_node(state, "correspond", "", [&](const ProgressFn& progress) {
+    auto c = std::make_shared<Correspondence>();
+    c->exemplar = exemplar;
+    c->source = source;
+    const PointSet& E = exemplar->features.points;
+    c->map = correspond(E, source->features.points, source->sampled->sample.spacing, state.config.correspond, progress);
+    for (const auto& w : c->map.warnings) state.warn("correspond", w);
+    node_logger("correspond")
+        ->info(
+            "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}; {} of {} exemplar samples matched, RMS {:.4g} "
+            "after deformation",
+            rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
+            c->map.matched, E.size(), c->map.deformed_rms);
+    return CorrespondencePtr(std::move(c));
+  });
+}
+
+CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence) {
+  return run_node(state, "cover", "", [&](const ProgressFn&) {
+    const Featured& templ = *correspondence->source;
+    auto c = std::make_shared<Coverage>();
+    c->correspondence = correspondence;
+    c->cover = cover_template(templ.features.points, correspondence->map.deformed, templ.sampled->sample.spacing,
+                              state.config.cover);
+    node_logger("cover")->info("the scan covers {} of {} template samples", c->cover.samples.size(),
+                               templ.features.points.size());
+    return CoveragePtr(std::move(c));
+  });
+}
+
+namespace {
+
+std::string describe(const SymmetryResult& s) {
+  if (s.axes.empty()) return "no rotational symmetry";
+  std::string out;
+  for (const auto& a : s.axes)
+    out += fmt::format("{}{} about ({:.3g}, {:.3g}, {:.3g})", out.empty() ? "" : ", ",
+                       a.order == 0 ? std::string("continuous") : std::to_string(a.order) + "-fold", a.direction.x(),
+                       a.direction.y(), a.direction.z());
+  return out;
+}
+
+}  // namespace
+
+SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target) {
+  return run_node(state, "symmetry", "", [&](const ProgressFn&) {
+    auto s = std::make_shared<Symmetries>();
+    s->source = source;
+    s->target = target;
+    s->spacing = target->sampled->sample.spacing;
+    s->source_symmetry = find_symmetries(source, s->spacing, state.config.symmetry);
+    s->target_symmetry = find_symmetries(target->features.points, s->spacing, state.config.symmetry);
+    node_logger("symmetry")
+        ->info("source: {}; target: {} ({} rotations)", describe(s->source_symmetry), describe(s->target_symmetry),
+               s->target_symmetry.rotations.size());
+    return SymmetriesPtr(std::move(s));
+  });
+}
+
+VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
+  return run_node(state, "vote", "", [&](const ProgressFn&) {
+    auto v = std::make_shared<Votes>();
+    v->symmetries = in;
+    v->source = in->source;
+    v->target = in->target;
+    v->spacing = in->spacing;
+    v->votes = vote(v->source, v->target->features.points, v->spacing, state.config.vote);
+    // A source symmetric about an axis votes for rings of equivalent motions: one mode per ring (DESIGN section 9).
+    if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous, state.config.vote);
+    node_logger("vote")->info("{} votes from {} target samples{}", v->votes.embedding.cols(),
+                              std::min<Index>(state.config.vote.target_samples, v->target->features.points.size()),
+                              in->source_symmetry.continuous ? ", modulo the source's continuous symmetry" : "");
+    return VotesPtr(std::move(v));
+  });
+}
+
+FoundModesPtr modes_stage(RunState& state, const VotesPtr& in) {
+  return run_node(state, "modes", "", [&](const ProgressFn&) {
+    auto m = std::make_shared<FoundModes>(FoundModes{in, find_modes(in->votes, state.config.vote, state.config.modes)});
+    node_logger("modes")->info("{} modes from {} seeds", m->modes.modes.size(), m->modes.seeds);
+    if (m->modes.modes.empty()) state.warn("modes", "no transform found: every target sample is self-referenced");
+    return FoundModesPtr(std::move(m));
+  });
+}
+
+SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
+  const RunConfig& config = state.config;
+  return run_node(state, "support", "", [&](const ProgressFn&) {
+    const Votes& v = *in->votes;
+    auto s = std::make_shared<Supports>();
+    s->modes = in;
+    // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both.
+    SupportOptions options = config.support;
+    options.allow_scale = config.vote.allow_scale;
+    const PointSet& T = v.target->features.points;
+    const SupportResult voted = grow_supports(v.source, T, in->modes.modes, v.spacing,
+                                              mode_accuracy(v.votes, config.vote, config.modes), options);
+    // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
+    const std::vector<Mode> composed = composed_candidates(voted, v.symmetries->target_symmetry, T, config.symmetry);
+    s->support = extend_supports(v.source, T, voted, composed, v.spacing, 0.0, options);
+    s->voted = Index(voted.transforms.size());
+    s->composed = Index(composed.size());
+    node_logger("support")->info(
+        "{} transforms with support of at least {} samples ({} from votes; {} candidates composed with the target's "
+        "symmetries)",
+        s->support.transforms.size(), config.support.min_support, s->voted, s->composed);
+    return SupportsPtr(std::move(s));
+  });
+}
+
+LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
+  return run_node(state, "label", "", [&](const ProgressFn&) {
+    const Votes& v = *in->modes->votes;
+    auto a = std::make_shared<Labelled>();
+    a->supports = in;
+    a->labels =
+        label_target(v.source, v.target->features.points, in->support.transforms, v.spacing, state.config.label);
+    node_logger("label")->info("energy {:.6g} -> {:.6g} in {} sweeps; {} samples relabelled by the clean-up",
+                               a->labels.energy_before, a->labels.energy_after, a->labels.cycles, a->labels.cleaned);
+    state.keep(a);
+    return LabelledPtr(std::move(a));
+  });
+}
+
+SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& correspondence, const LabelledPtr& analogy,
+                                const CoveragePtr& coverage) {
+  return run_node(state, "synthesize", "", [&](const ProgressFn&) {
+    auto out = std::make_shared<Synthesized>();
+    out->correspondence = correspondence;
+    out->analogy = analogy;
+    out->coverage = coverage;
+    const Votes& v = analogy->votes();
+    std::vector<Similarity> transforms;
+    for (const auto& t : analogy->supports->support.transforms) transforms.push_back(t.transform);
+    const CorrespondResult& map = correspondence->map;
+    const SynthesisInputs in{correspondence->exemplar->features.points,
+                             map.rigid,
+                             map.exemplar_source,
+                             correspondence->source->features.points,
+                             v.target->features.points,
+                             analogy->labels.labels,
+                             analogy->labels.self_label,
+                             transforms,
+                             coverage ? &coverage->cover.covered : nullptr};
+    out->synthesis = synthesize(in, v.spacing, state.config.synthesize);
+    Index by_origin[3] = {0, 0, 0};
+    for (const auto o : out->synthesis.origin) ++by_origin[int(o)];
+    node_logger("synthesize")
+        ->info("{} patches: {} exemplar, {} synthesised, {} copied samples ({} where no patch reached)",
+               out->synthesis.patches.size(), by_origin[0], by_origin[1], by_origin[2], out->synthesis.gap_copies);
+    return SynthesizedPtr(std::move(out));
+  });
+}
+
+AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in) {
+  return run_node(state, "align", "", [&](const ProgressFn&) {
+    auto out =
+        std::make_shared<Aligned>(Aligned{in, align(in->synthesis, in->analogy->votes().spacing, state.config.align)});
+    node_logger("align")->info("{} seam pairs, RMS gap {:.4g} -> {:.4g}", out->alignment.seam_pairs,
+                               out->alignment.gap_before, out->alignment.gap_after);
+    return AlignedPtr(std::move(out));
+  });
+}
+
+TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame) {
+  return run_node(state, "transfer", "", [&](const ProgressFn& progress) {
+    const Synthesized& syn = *in->synthesized;
+    const Correspondence& c = *syn.correspondence;
+    const Featured& target = *syn.analogy->votes().target;
+    const TransferInputs inputs{c.exemplar->sampled->loaded->load.points,
+                                c.exemplar->features.points,
+                                target.sampled->loaded->load.points,
+                                target.features.points,
+                                c.map.rigid,
+                                syn.synthesis,
+                                in->alignment,
+                                to_scan_frame ? c.map.rigid.inverse() : Similarity{}};
+    auto out = std::make_shared<Transferred>(Transferred{in, transfer(inputs, progress)});
+    node_logger("transfer")
+        ->info("{} output points, {} faces", out->output.points.size(), out->output.points.faces().cols());
+    state.keep(out);
+    return TransferredPtr(std::move(out));
+  });
+}
+
+}  // namespace scanfill

@@ -1,0 +1,152 @@
+// The engine's side of each node (DESIGN section 2): the message it sends and the body its tbb::flow node runs.
+//
+// Messages are immutable and shared (std::shared_ptr<const T>); each points back at the messages it was made from,
+// so the last one of a run reaches every result the output writer needs. A body calls the node function of nodes/
+// with its options, logs one line, records warnings and the node's timing; run_node adds the node's name to any error.
+// No geometry here: every decision about points is a node function's.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "engine/config.h"
+#include "engine/pipeline.h"
+#include "nodes/synthesize/synthesize.h"
+#include "nodes/transfer/transfer.h"
+
+namespace scanfill {
+
+struct Loaded {
+  Input input;
+  LoadResult load;
+  BoundingBox box;  // of load.points, for the report
+};
+struct Sampled {
+  std::shared_ptr<const Loaded> loaded;
+  SampleResult sample;
+};
+struct Featured {
+  std::shared_ptr<const Sampled> sampled;
+  FeaturesResult features;
+};
+using LoadedPtr = std::shared_ptr<const Loaded>;
+using SampledPtr = std::shared_ptr<const Sampled>;
+using FeaturedPtr = std::shared_ptr<const Featured>;
+
+// M: the exemplar (scan) <-> source (template) map.
+struct Correspondence {
+  FeaturedPtr exemplar, source;
+  CorrespondResult map;
+};
+using CorrespondencePtr = std::shared_ptr<const Correspondence>;
+
+// Completion: the template samples the registered scan covers; their subset is the analogy's source S.
+struct Coverage {
+  CorrespondencePtr correspondence;
+  CoverResult cover;
+};
+using CoveragePtr = std::shared_ptr<const Coverage>;
+
+// A: S -> T, one message per stage.
+struct Symmetries {
+  PointSet source;  // S
+  FeaturedPtr target;
+  double spacing = 0;
+  SymmetryResult source_symmetry, target_symmetry;
+};
+using SymmetriesPtr = std::shared_ptr<const Symmetries>;
+struct Votes {
+  SymmetriesPtr symmetries;
+  PointSet source;  // S
+  FeaturedPtr target;
+  double spacing = 0;
+  VoteResult votes;
+};
+using VotesPtr = std::shared_ptr<const Votes>;
+struct FoundModes {
+  std::shared_ptr<const Votes> votes;
+  ModesResult modes;
+};
+using FoundModesPtr = std::shared_ptr<const FoundModes>;
+struct Supports {
+  FoundModesPtr modes;
+  SupportResult support;
+  Index voted = 0;     // transforms grown from the modes
+  Index composed = 0;  // candidates composed with the target's symmetries
+};
+using SupportsPtr = std::shared_ptr<const Supports>;
+struct Labelled {
+  SupportsPtr supports;
+  LabelResult labels;
+  const Votes& votes() const { return *supports->modes->votes; }
+};
+using LabelledPtr = std::shared_ptr<const Labelled>;
+
+// M, A -> synthesize -> align -> transfer.
+struct Synthesized {
+  CorrespondencePtr correspondence;
+  LabelledPtr analogy;
+  CoveragePtr coverage;  // completion only
+  Synthesis synthesis;
+};
+using SynthesizedPtr = std::shared_ptr<const Synthesized>;
+struct Aligned {
+  SynthesizedPtr synthesized;
+  AlignResult alignment;
+};
+using AlignedPtr = std::shared_ptr<const Aligned>;
+struct Transferred {
+  AlignedPtr aligned;
+  TransferResult output;
+};
+using TransferredPtr = std::shared_ptr<const Transferred>;
+
+// What a run's nodes share with the engine: the config, timings, warnings and, for the writer, every input's features
+// and the last message of the graph.
+class RunState {
+ public:
+  explicit RunState(const RunConfig& config) : config(config), inputs_(config.inputs.size()) {}
+  const RunConfig& config;
+
+  void record(const std::string& name, double seconds);
+  void warn(const std::string& node, const std::string& what);
+  void keep(FeaturedPtr f);
+  void keep(LabelledPtr a);
+  void keep(TransferredPtr t);
+
+  // After the graph has run.
+  const std::vector<NodeTiming>& timings() const { return timings_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  const std::vector<FeaturedPtr>& inputs() const { return inputs_; }  // in config.inputs' order
+  const LabelledPtr& analogy() const { return analogy_; }
+  const TransferredPtr& output() const { return output_; }
+
+ private:
+  std::mutex mutex_;
+  std::vector<NodeTiming> timings_;
+  std::vector<std::string> warnings_;
+  std::vector<FeaturedPtr> inputs_;
+  LabelledPtr analogy_;
+  TransferredPtr output_;
+};
+
+// The node bodies. `reference`: the input whose spacing alpha this one is sampled at (nullptr: as configured).
+LoadedPtr load_stage(RunState& state, const Input& input);
+SampledPtr sample_stage(RunState& state, const LoadedPtr& in, const SampledPtr& reference);
+FeaturedPtr features_stage(RunState& state, const SampledPtr& in);
+CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar, const FeaturedPtr& source);
+CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence);
+SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target);
+VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in);
+FoundModesPtr modes_stage(RunState& state, const VotesPtr& in);
+SupportsPtr support_stage(RunState& state, const FoundModesPtr& in);
+LabelledPtr label_stage(RunState& state, const SupportsPtr& in);
+SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& correspondence, const LabelledPtr& analogy,
+                                const CoveragePtr& coverage);
+AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
+// `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
+TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
+
+}  // namespace scanfill

@@ -1,0 +1,41 @@
+// One input of a run, as a user writes it (a config's inputs, `scanfill sample --input`, `scan --input`, `eval`):
+//
+//   FILE                  a point cloud or mesh (.ply .pcd .obj .off .stl .xyz), relative to `base`
+//   procedural:NAME       a procedural shape (nodes/procedural/shapes.h)
+//   revolution:INPUT      the body of revolution about z of INPUT (a FILE or procedural:NAME): a template
+//
+// This file is the one owner of that syntax: parse_input reads it, check_input says why it cannot be loaded, and
+// load_input loads it.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "nodes/io/read_point_set.h"
+
+namespace scanfill {
+
+struct InputSpec {
+  std::string text;            // as written by the user
+  std::filesystem::path path;  // the file, resolved against `base` (empty for a procedural input)
+  std::string procedural;      // shape name of "procedural:NAME"
+  bool revolution = false;     // "revolution:...": the body of revolution about z of the model
+};
+
+// Parses `text`; a relative file path is resolved against `base` (the config file's folder; empty = as written).
+InputSpec parse_input(const std::string& text, const std::filesystem::path& base = {});
+
+// Why `spec` cannot be loaded (unknown shape, missing file, unknown format), or nothing when it can be tried.
+std::optional<std::string> check_input(const InputSpec& spec);
+
+// What to call the input in messages: the resolved path, or the text of a procedural input.
+std::string input_name(const InputSpec& spec);
+
+// The bounding box of a loaded input, as the report shows it.
+BoundingBox input_bounds(const LoadResult& load);
+
+// Reads the file or makes the shape. Throws IoError (files) or InputError (unknown shape).
+LoadResult load_input(const InputSpec& spec, const LoadOptions& options = {});
+
+}  // namespace scanfill

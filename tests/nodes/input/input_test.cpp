@@ -1,0 +1,59 @@
+#include "nodes/input/input.h"
+
+#include <gtest/gtest.h>
+
+#include "nodes/core/errors.h"
+#include "nodes/procedural/shapes.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+TEST(Input, ParsesEveryFormAndResolvesFilesAgainstTheBase) {
+  const InputSpec file = parse_input("scans/a.ply", "/data");
+  EXPECT_EQ(file.path, std::filesystem::path("/data/scans/a.ply"));
+  EXPECT_TRUE(file.procedural.empty());
+  EXPECT_FALSE(file.revolution);
+  EXPECT_EQ(parse_input("/abs/b.obj", "/data").path, std::filesystem::path("/abs/b.obj"));
+  EXPECT_EQ(parse_input("b.obj").path, std::filesystem::path("b.obj"));
+  const InputSpec shape = parse_input("procedural:gear_template", "/data");
+  EXPECT_EQ(shape.procedural, "gear_template");
+  EXPECT_TRUE(shape.path.empty());
+  EXPECT_EQ(input_name(shape), "procedural:gear_template");
+  const InputSpec revolved = parse_input("revolution:procedural:vase");
+  EXPECT_TRUE(revolved.revolution);
+  EXPECT_EQ(revolved.procedural, "vase");
+  const InputSpec revolved_file = parse_input("revolution:m.obj", "/data");
+  EXPECT_TRUE(revolved_file.revolution);
+  EXPECT_EQ(revolved_file.path, std::filesystem::path("/data/m.obj"));
+  EXPECT_EQ(input_name(revolved_file), "/data/m.obj");
+}
+
+TEST(Input, SaysWhyAnInputCannotBeLoaded) {
+  test::TempDir dir;
+  test::write_bytes(dir / "a.xyz", "0 0 0\n");
+  test::write_bytes(dir / "a.las", "x");
+  EXPECT_FALSE(check_input(parse_input("a.xyz", dir.path())));
+  EXPECT_FALSE(check_input(parse_input("procedural:vase")));
+  EXPECT_NE(check_input(parse_input("procedural:cube"))->find("unknown procedural shape 'cube' (valid: "),
+            std::string::npos);
+  EXPECT_NE(check_input(parse_input("nothere.ply", dir.path()))->find("no such file: "), std::string::npos);
+  EXPECT_NE(check_input(parse_input("a.las", dir.path()))->find("unknown format '.las'"), std::string::npos);
+  EXPECT_NE(check_input(parse_input(".", dir.path()))->find("not a regular file"), std::string::npos);
+}
+
+TEST(Input, LoadsShapesAndBodiesOfRevolution) {
+  const LoadResult shape = load_input(parse_input("procedural:gear_template"));
+  EXPECT_EQ(shape.format, "procedural");
+  EXPECT_EQ(shape.points.size(), make_gear_template().size());
+  EXPECT_TRUE(shape.points.has_faces());
+  const LoadResult revolved = load_input(parse_input("revolution:procedural:vase"));
+  EXPECT_EQ(revolved.format, "procedural (body of revolution)");
+  EXPECT_EQ(revolved.points.size(), make_revolution(make_vase()).size());
+  EXPECT_EQ(revolved.file_points, revolved.points.size());
+  const BoundingBox box = input_bounds(shape);
+  EXPECT_LT(box.min.x(), box.max.x());
+}
+
+}  // namespace
+}  // namespace scanfill
