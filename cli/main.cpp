@@ -5,9 +5,13 @@
 #include <tbb/info.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "engine/config.h"
 #include "engine/console.h"
@@ -28,6 +32,23 @@ int fail(const std::string& what, int code = 1) {
   Progress::instance().clear_locked();
   std::cerr << "scanfill: error: " << what << std::endl;
   return code;
+}
+
+// A numeric option's check: a finite number in [lo, hi] (lo excluded when lo_open). Replaces CLI11's PositiveNumber
+// and Range, which accept "nan" and print their bounds with all 309 digits of DBL_MAX.
+CLI::Validator number_in(double lo, double hi, bool lo_open = false) {
+  std::ostringstream range;
+  range << (lo_open ? "a number > " : "a number >= ") << lo;
+  if (hi < std::numeric_limits<double>::max()) range << " and <= " << hi;
+  return CLI::Validator(
+      [lo, hi, lo_open, what = range.str()](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool parsed = !text.empty() && end == text.c_str() + text.size();
+        if (parsed && std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi) return {};
+        return "expected " + what + ", got '" + text + "'";
+      },
+      "", "");
 }
 
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {
@@ -185,6 +206,7 @@ int run_scan(const std::string& input, const std::string& output, const std::str
 }  // namespace
 
 int main(int argc, char** argv) {
+  constexpr double kMax = std::numeric_limits<double>::max();
   CLI::App app{"scanfill: complete partial 3D scans and transfer geometric style by shape analogies"};
   app.set_version_flag("--version", std::string("scanfill ") + SCANFILL_VERSION);
   std::string config_path;
@@ -193,7 +215,7 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "run the pipeline configured by this YAML file")->check(CLI::ExistingFile);
   app.add_flag("--print-defaults", print_defaults, "print a complete config with every option and its default");
   auto add_common = [&](CLI::App* cmd) {
-    cmd->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
+    cmd->add_option("--threads", threads, "worker threads (default: all cores)")->check(number_in(1, 1 << 16));
     cmd->add_flag("-v,--verbose", verbose, "debug logging");
     cmd->add_flag("-q,--quiet", quiet, "warnings and errors only");
   };
@@ -214,11 +236,12 @@ int main(int argc, char** argv) {
   int s_k = FeaturesOptions{}.k;
   samp->add_option("--input", s_in, "point cloud or mesh (file, procedural:NAME or revolution:FILE)")->required();
   samp->add_option("--output", s_out, "output .ply (x y z nx ny nz k1 k2 d1x d1y d1z)")->required();
-  auto* sp = samp->add_option("--spacing", s_spacing, "mean sample spacing, model units")->check(CLI::PositiveNumber);
-  auto* ct = samp->add_option("--count", s_count, "number of samples (default 20000)")->check(CLI::PositiveNumber);
+  auto* sp =
+      samp->add_option("--spacing", s_spacing, "mean sample spacing, model units")->check(number_in(0, kMax, true));
+  auto* ct = samp->add_option("--count", s_count, "number of samples (default 20000)")->check(number_in(1, kMax));
   sp->excludes(ct);
   samp->add_option("--seed", s_seed, "random seed (meshes)");
-  samp->add_option("--k", s_k, "neighbours for normals and curvature")->check(CLI::Range(6, 128));
+  samp->add_option("--k", s_k, "neighbours for normals and curvature")->check(number_in(6, 128));
   add_common(samp);
   CLI::App* ev = app.add_subcommand("eval", "accuracy of an output against a complete reference, as JSON");
   std::string e_out, e_ref, e_scan, e_template;
@@ -227,14 +250,14 @@ int main(int argc, char** argv) {
   ev->add_option("--output", e_out, "the completed or stylised model (file or procedural:NAME)")->required();
   ev->add_option("--reference", e_ref, "the complete model to compare with")->required();
   ev->add_option("--threshold", e_threshold, "F-score distance as a fraction of the reference's bounding-box diagonal")
-      ->check(CLI::Range(1e-9, 1.0));
+      ->check(number_in(1e-9, 1.0));
   ev->add_option("--scan", e_scan, "the partial scan (with --template: unseen-detail recall)");
   ev->add_option("--template", e_template, "the structural template (with --scan)");
   bool e_baselines = false;
   ev->add_flag("--baselines", e_baselines,
                "with --scan and --template: also score the scan alone and the template-blending completion");
   ev->add_option("--samples", e_samples, "random points drawn on each mesh")
-      ->check(CLI::Range(Index(1), Index(1) << 30));
+      ->check(number_in(1, double(Index(1) << 30)));
   add_common(ev);
   CLI::App* sc = app.add_subcommand("scan", "a single-view virtual range scan of a mesh, written as PLY");
   std::string c_in, c_out, c_eye, c_target, c_resolution;
@@ -245,8 +268,8 @@ int main(int argc, char** argv) {
   sc->add_option("--eye", c_eye, "camera position X,Y,Z")->required();
   sc->add_option("--target", c_target, "point looked at X,Y,Z (default 0,0,0)");
   sc->add_option("--resolution", c_resolution, "image size W,H (default 640,480)");
-  sc->add_option("--fov", c_fov, "vertical field of view in degrees")->check(CLI::Range(0.001, 179.0));
-  sc->add_option("--noise", c_noise, "Gaussian noise sigma along the ray, model units")->check(CLI::NonNegativeNumber);
+  sc->add_option("--fov", c_fov, "vertical field of view in degrees")->check(number_in(0.001, 179.0));
+  sc->add_option("--noise", c_noise, "Gaussian noise sigma along the ray, model units")->check(number_in(0, kMax));
   sc->add_option("--seed", c_seed, "noise seed");
   add_common(sc);
   app.require_subcommand(0, 1);
@@ -254,7 +277,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version print and exit 0; every other parse error is a usage error: exit 2, one line.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    return fail(what + " (see scanfill --help)", 2);
   }
   setup_logging(verbose, quiet);
   try {

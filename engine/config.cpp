@@ -74,6 +74,11 @@ bool check_map(const YAML::Node& node, const std::string& key, const std::vector
     return false;
   }
   for (auto it = node.begin(); it != node.end(); ++it) {
+    if (!it->first.IsScalar()) {  // a map or list used as a key (`? [a, b]`, `{a: 1}: x`)
+      problems.add(it->first.Mark(), key.empty() ? "(top level)" : key,
+                   "a key must be a name, got " + describe(it->first));
+      continue;
+    }
     const std::string k = it->first.as<std::string>();
     if (std::find(valid.begin(), valid.end(), k) == valid.end())
       problems.add(it->first.Mark(), key.empty() ? k : key + "." + k, "unknown key (valid: " + join(valid) + ")");
@@ -320,6 +325,7 @@ RunConfig load_config(const std::filesystem::path& path) {
       for (const auto& [name, role] : role_names()) valid.push_back(name);
     if (check_map(n, "inputs", valid, problems)) {
       for (auto it = n.begin(); it != n.end(); ++it) {
+        if (!it->first.IsScalar()) continue;  // reported by check_map
         const std::string name = it->first.as<std::string>();
         const auto role = std::find(valid.begin(), valid.end(), name);
         if (!mode_known || role == valid.end()) continue;

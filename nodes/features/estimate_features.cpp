@@ -340,7 +340,11 @@ ShapeOperatorFit fit_shape_operator(const Eigen::Matrix3Xd& P, const Eigen::Matr
       }
       Eigen::Vector3d s = Eigen::Vector3d::Zero();
       Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
-      if (ldlt.info() == Eigen::Success && ldlt.isPositive() && std::abs(AtA.determinant()) > 1e-30)
+      // Singular fits are skipped relative to the neighbourhood's size (AtA grows as h^2, its determinant as h^6): an
+      // absolute bound made every point of a model scaled to 1e-5 flat (k1 = k2 = 0).
+      const double scale = AtA.trace();
+      if (ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+          std::abs(AtA.determinant()) > 1e-20 * scale * scale * scale)
         s = ldlt.solve(Atb);
       if (!s.allFinite()) s.setZero();
       Eigen::Matrix2d S;

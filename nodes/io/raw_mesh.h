@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -57,6 +58,8 @@ class Tokenizer {
   // Rest of the current line (for comments), consuming the newline.
   void skip_line();
   int line() const { return line_; }
+  // Bytes not yet consumed.
+  size_t remaining() const { return size_t(end_ - p_); }
 
  private:
   void skip_space();
@@ -64,6 +67,13 @@ class Tokenizer {
   const char* end_;
   int line_ = 1;
 };
+
+// A number for a message: %g, not std::to_string's 300 digits of 1e300.
+inline std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 // Parses a number token; false if it is not entirely a number.
 bool parse_double(std::string_view token, double& out);

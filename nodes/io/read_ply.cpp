@@ -1,7 +1,9 @@
 // PLY reader (Turk's format): ASCII, binary_little_endian and binary_big_endian; CRLF line endings; any elements.
 // Only vertex (x y z [nx ny nz | normal_x ...]) and face (vertex_indices | vertex_index) are kept; other elements
 // such as range_grid or camera are read past.
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <sstream>
 
@@ -211,6 +213,24 @@ RawMesh read_ply(const std::filesystem::path& path) {
   }
   if (!has[0] || !has[1] || !has[2]) fail(path, "PLY vertex element lacks x, y or z");
   const bool want_normals = has[3] && has[4] && has[5];
+
+  // The counts against the bytes after the header, before anything is allocated: a binary record takes at least its
+  // scalars and list counts, an ascii value at least one character and a separator (the last may lack it).
+  const std::uint64_t body = data.size() - std::min(pos, data.size());
+  std::uint64_t need = 0;  // bytes (binary) or values (ascii) the header implies, at the least
+  for (const Element& e : elements) {
+    std::uint64_t record = 0;
+    for (const Property& prop : e.properties)
+      record += encoding == Encoding::kAscii ? 1 : type_size(prop.is_list ? prop.count_type : prop.type);
+    if (e.count == 0) continue;
+    const std::uint64_t limit = encoding == Encoding::kAscii ? (body + 1) / 2 : body;
+    if (record == 0 || std::uint64_t(e.count) > (limit - std::min(need, limit)) / record)
+      fail(path, std::string(record == 0 ? "" : "truncated: ") + "element '" + e.name + "' declares " +
+                     std::to_string(e.count) + " records" +
+                     (record == 0 ? " without properties"
+                                  : ", more than the " + std::to_string(body) + " bytes after the header can hold"));
+    need += std::uint64_t(e.count) * record;
+  }
   mesh.xyz.reserve(size_t(vertex->count) * 3);
   if (want_normals) mesh.normals.reserve(size_t(vertex->count) * 3);
 
@@ -258,7 +278,11 @@ RawMesh read_ply(const std::filesystem::path& path) {
         if (encoding == Encoding::kAscii) {
           const std::string_view t = tok.next();
           if (t.empty()) truncated();
-          if (!parse_double(t, count_d)) fail(path, "'" + std::string(t) + "' is not a list count");
+          std::int64_t count_i = 0;
+          if (!parse_int(t, count_i))
+            fail(path, "element '" + e.name + "' record " + std::to_string(r) + ": '" + std::string(t) +
+                           "' is not a list count");
+          count_d = double(count_i);
         } else {
           const size_t n = type_size(prop.count_type);
           if (size_t(end - p) < n) truncated();
@@ -267,6 +291,12 @@ RawMesh read_ply(const std::filesystem::path& path) {
         }
         if (count_d < 0 || count_d != std::floor(count_d))
           fail(path, "element '" + e.name + "' record " + std::to_string(r) + " has an invalid list count");
+        // Each item takes at least its size (binary), or one character and a separator (ascii; the last may lack it).
+        const bool fits = encoding == Encoding::kAscii ? count_d * 2 <= double(tok.remaining()) + 1
+                                                       : count_d * double(type_size(prop.type)) <= double(end - p);
+        if (!fits)
+          fail(path, "element '" + e.name + "' record " + std::to_string(r) + " declares a list of " +
+                         std::to_string(std::uint64_t(std::min(count_d, 1e19))) + " items, more than the file holds");
         const auto count = static_cast<size_t>(count_d);
         std::int64_t* dst = corners;
         if (slot == 6 && count > 256) {
@@ -285,7 +315,12 @@ RawMesh read_ply(const std::filesystem::path& path) {
             if (slot == 6) v = read_binary(p, prop.type, swap);
             p += n;
           }
-          if (slot == 6) dst[k] = static_cast<std::int64_t>(v);
+          if (slot == 6) {
+            if (!(v >= -9e15 && v <= 9e15) || v != std::floor(v))  // NaN, fractions and the unrepresentable
+              fail(path, "element '" + e.name + "' record " + std::to_string(r) + " has the vertex index '" +
+                             short_number(v) + "', not an integer");
+            dst[k] = static_cast<std::int64_t>(v);
+          }
         }
         if (slot == 6 && !add_polygon(mesh.faces, dst, count)) ++skipped_faces;
       }

@@ -2,7 +2,8 @@
 //
 // Formats, chosen by the file extension (case-insensitive):
 //   .ply  ASCII and binary (either endianness), CRLF headers, extra elements (range_grid, camera...), n-gon faces
-//   .pcd  ascii, binary, binary_compressed (PCL's reader); organised clouds with NaN holes
+//   .pcd  ascii, binary, binary_compressed (our own checked reader; 64-bit integer fields too); organised clouds with
+//         NaN holes
 //   .obj  v / vn / f with any index form (v, v/vt, v//vn, v/vt/vn, negative), n-gons
 //   .off  OFF, NOFF, COFF; .stl ASCII and binary (vertices welded); .xyz x y z [nx ny nz]
 // N-gons are split into triangle fans. Non-finite points are dropped, with their faces, and counted. Anything empty,

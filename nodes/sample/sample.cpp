@@ -159,6 +159,44 @@ std::vector<Index> thin_cloud(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd&
   return kept;
 }
 
+// A cloud without its exact duplicates (same position): the first of each kept, in input order, with its normal and
+// its index in the input as source_index. `merged` counts the others. Returns an empty set when there are none, so
+// ordinary inputs take the same path as before. (1000 copies of one point used to give 100 copies of it as samples.)
+PointSet merge_duplicates(const PointSet& cloud, Index& merged) {
+  const Eigen::Matrix3Xd& P = cloud.positions();
+  const Index n = P.cols();
+  std::vector<Index> order(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), Index(0));
+  tbb::parallel_sort(order.begin(), order.end(), [&](Index a, Index b) {
+    for (int c = 0; c < 3; ++c)
+      if (P(c, a) != P(c, b)) return P(c, a) < P(c, b);
+    return a < b;  // a total order: the lowest index of equal positions comes first
+  });
+  std::vector<std::uint8_t> duplicate(static_cast<size_t>(n), 0);
+  merged = 0;
+  for (size_t i = 1; i < order.size(); ++i)
+    if (P.col(order[i]) == P.col(order[i - 1])) {
+      duplicate[size_t(order[i])] = 1;
+      ++merged;
+    }
+  if (merged == 0) return {};
+  const Index kept = n - merged;
+  Eigen::Matrix3Xd positions(3, kept), normals(3, cloud.has_normals() ? kept : 0);
+  VectorXi64 source(kept);
+  for (Index i = 0, j = 0; i < n; ++i) {
+    if (duplicate[size_t(i)]) continue;
+    positions.col(j) = P.col(i);
+    if (cloud.has_normals()) normals.col(j) = cloud.normals().col(i);
+    source(j) = cloud.has_source_index() ? cloud.source_index()(i) : i;
+    ++j;
+  }
+  PointSet out(std::move(positions));
+  if (cloud.has_normals()) out.set_normals(std::move(normals));
+  out.set_source_index(std::move(source));
+  out.set_viewpoint(cloud.viewpoint());
+  return out;
+}
+
 }  // namespace
 
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed) {
@@ -211,12 +249,23 @@ Index count_for_spacing(double area, double spacing) {
   return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));
 }
 
-SampleResult sample(const PointSet& input, const SampleOptions& options, const ProgressFn& progress) {
-  input.check();
+SampleResult sample(const PointSet& given, const SampleOptions& options, const ProgressFn& progress) {
+  given.check();
   SampleResult result;
-  const bool mesh = input.has_faces();
-  if (input.size() < 3)
-    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(input.size()));
+  const bool mesh = given.has_faces();
+  if (given.size() < 3)
+    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(given.size()));
+  // A cloud's duplicate points are merged first (a mesh's vertices do not matter: its triangles are sampled).
+  Index merged = 0;
+  const PointSet distinct = mesh ? PointSet() : merge_duplicates(given, merged);
+  const PointSet& input = merged > 0 ? distinct : given;
+  if (merged > 0) {
+    result.warnings.push_back(std::to_string(merged) + " of the cloud's " + std::to_string(given.size()) +
+                              " points repeat another point's position and were merged before sampling");
+    if (input.size() < 3)
+      throw InputError("sampling needs at least 3 distinct points, the cloud has " + std::to_string(input.size()) +
+                       " (" + std::to_string(merged) + " duplicates merged)");
+  }
 
   // Candidates and the area they cover.
   KdTree input_tree;

@@ -108,6 +108,21 @@ TEST(Features, SameOutputOnOneAndTwoThreads) {
   EXPECT_EQ(one.points.directions(), two.points.directions());
 }
 
+// Issue 11: an absolute determinant bound in the shape-operator fit made every point of a model scaled to 1e-5 flat
+// (k1 = k2 = 0). Curvature scales as 1 / size: the same cloud scaled by s has curvatures divided by s.
+TEST(Features, CurvatureIsScaleFree) {
+  const PointSet unit(samples_of(make_sphere(0.5, 128), 4000).positions());
+  for (const double s : {1e-5, 1e-3, 1e4}) {
+    const FeaturesResult scaled = estimate_features(PointSet(unit.positions() * s), {});
+    std::vector<double> ratio;
+    for (Index i = 0; i < unit.size(); ++i) ratio.push_back(scaled.points.curvatures()(0, i) * s);
+    EXPECT_NEAR(median(ratio), 2.0, 0.1) << "scale " << s;  // 1 / r, r = 0.5
+    Index flat = 0;
+    for (Index i = 0; i < unit.size(); ++i) flat += scaled.points.curvatures()(0, i) == 0;
+    EXPECT_EQ(flat, 0) << "scale " << s;
+  }
+}
+
 TEST(Features, RefusesTooFewPointsAndImpossibleOrientation) {
   const PointSet tiny(Eigen::Matrix3Xd::Random(3, 10));
   EXPECT_THROW(estimate_features(tiny, {}), InputError);

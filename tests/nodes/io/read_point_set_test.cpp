@@ -245,7 +245,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"short.pcd",
                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 10\nHEIGHT 1\nPOINTS 10\n"
                 "DATA ascii\n0 0 0\n1 1 1\n",
-                "malformed or truncated PCD"},
+                "truncated"},
         BadFile{"cloud.las", "LASF", "unknown format '.las'"}),
     [](const auto& info) { return identifier(info.param.name); });
 
