@@ -131,6 +131,7 @@ def main():
     ap.add_argument("--only", default="", help="run only cases whose name contains this")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--json", default="", help="also write all rows to this file")
+    ap.add_argument("--run-binary", default="", help="another scanfill for the main run (e.g. an older build to compare)")
     args = ap.parse_args()
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
     os.makedirs(args.out, exist_ok=True)
@@ -164,7 +165,7 @@ def main():
                 name = shape
                 cfg, out_dir = transfer_case(args.out, shape, source, target, exemplar)
                 eval_args = ["--reference", styled, "--scan", exemplar, "--template", target, "--baselines"]
-            run([exe, "--config", cfg, "--threads", str(args.threads), "-q"])
+            run([args.run_binary or exe, "--config", cfg, "--threads", str(args.threads), "-q"])
             row = {"shape": shape, "case": name, **score(exe, out_dir, eval_args, args.threads)}
         except RuntimeError as e:
             row = {"shape": case[1], "case": label, "error": str(e).splitlines()[-1]}

@@ -38,10 +38,10 @@ double median(std::vector<double> v) {
 
 // Trimmed ICP of the exemplar samples onto the source: point-to-point for the first third of the steps (robust from
 // a rough pose, pairs within rigid_trim x the median distance), point-to-plane after (fast convergence on smooth
-// surfaces) on the pairs within rigid_fine_trim x the median: the plain parts of a scan lie on its template, its
-// relief to one side, and a mean over both would register the scan off the template by the relief's mean height
-// (1 cm on a crate whose sides are half covered by 2 cm of relief, which put its mirrored sides 2 cm off). Rigid: the
-// inputs share a scale.
+// surfaces) on the pairs within rigid_fine_trim x the median. Where relief covers much of a scan, a mean over all pairs
+// registers it off the template by the relief's mean height (1 cm on the crate fixture, whose sides are half covered
+// by 2 cm of relief); rigid_fine_trim 1 keeps only the closer half, which fixes that scan but locks others onto their
+// relief layer (the gear's teeth), so the default keeps the mean (3). Rigid: the inputs share a scale.
 Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const CorrespondOptions& o,
                      double& rms) {
   Similarity q;

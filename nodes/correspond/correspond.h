@@ -35,7 +35,7 @@ struct CorrespondOptions {
   bool rigid = true;                  // rigid pre-alignment by ICP (inputs are assumed roughly aligned)
   int rigid_iterations = 40;          // ICP steps; [1, 500]
   double rigid_trim = 3.0;            // ICP ignores pairs farther than this times the median pair distance; >= 1
-  double rigid_fine_trim = 1.0;       // the same in the point-to-plane steps (plain parts on the template); > 0
+  double rigid_fine_trim = 3.0;       // the same in the point-to-plane steps (1: only the closer half); > 0
   int outer_iterations = 4;           // assignment / deformation alternations (0 = rigid only); [0, 20]
   int deformation_nodes = 150;        // embedded-deformation graph nodes; [4, 5000]
   int node_neighbors = 6;             // graph edges per node; [2, 16]

@@ -42,7 +42,7 @@ struct LabelOptions {
   double pairwise_cap = 1.0;            // cap of V's data part (<= mu keeps V a metric); >= 0
   double label_cost_per_sample = 0.05;  // base h_l of a transform label, per target sample (h scales with the
                                         // sampling density, as the unary sums it competes with do); >= 0
-  double rotation_prior = 3.0;          // eq. 9 weight of the residual rotation; >= 0
+  double rotation_prior = 0.5;          // eq. 9 weight of the residual rotation; >= 0
   double upright_prior = 1.0;           // weight of the tilt of +z, (1 - cos tilt) / 2: a turn about the vertical
                                         // before a flip that turns the object over; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0

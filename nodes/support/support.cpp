@@ -7,6 +7,7 @@
 #include <deque>
 
 #include "nodes/core/kdtree.h"
+#include "nodes/support/support_options.h"
 
 namespace scanfill {
 namespace {
@@ -158,19 +159,30 @@ SupportResult select_transforms(std::vector<SupportedTransform> found, const Poi
 
 SupportResult grow_supports(const PointSet& source, const PointSet& target, const std::vector<Mode>& modes,
                             double spacing, double mode_accuracy, const SupportOptions& options) {
+  check_options(options);
   return select_transforms(grow_all(source, target, modes, spacing, mode_accuracy, options), target, spacing, options);
 }
 
 SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
                               const std::vector<Mode>& extra, double spacing, double accuracy,
                               const SupportOptions& options) {
+  check_options(options);
   if (extra.empty()) return found;
   // Compositions are exact (a refined transform and a symmetry of T): grown, not refined, since ICP would slide them
   // along a symmetric template's free motions, off the axis rotations they were made to be.
   SupportOptions grow_only = options;
   grow_only.icp_iterations = 0;
+  // Coverage is what they are for (DESIGN section 9): an extra transform is kept only when it explains at least
+  // min_support target samples that no found transform explains.
+  std::vector<std::uint8_t> explained(size_t(target.size()), 0);
+  for (const auto& st : found.transforms)
+    for (const auto t : st.support) explained[size_t(t)] = 1;
   std::vector<SupportedTransform> all = found.transforms;
-  for (auto& st : grow_all(source, target, extra, spacing, accuracy, grow_only)) all.push_back(std::move(st));
+  for (auto& st : grow_all(source, target, extra, spacing, accuracy, grow_only)) {
+    const auto unexplained =
+        std::count_if(st.support.begin(), st.support.end(), [&](std::int32_t t) { return explained[size_t(t)] == 0; });
+    if (Index(unexplained) >= options.min_support) all.push_back(std::move(st));
+  }
   return select_transforms(std::move(all), target, spacing, options);
 }
 

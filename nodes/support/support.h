@@ -49,7 +49,9 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
                             double spacing, double mode_accuracy, const SupportOptions& options);
 
 // `found` plus the transforms grown from `extra` modes (composed candidates, DESIGN section 9), all selected together
-// by the rules above: an extra transform that explains what a found one does is dropped like any duplicate. The extras
+// by the rules above: an extra transform that explains what a found one does is dropped like any duplicate, and one
+// that explains fewer than min_support samples no found transform explains is not kept (the extras are for coverage:
+// where voting already explains the target, its own transforms are kept as they are). The extras
 // are grown at `distance` alpha without ICP: they are exact compositions, and ICP would slide them along the free
 // motions of a symmetric target.
 SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,

@@ -14,6 +14,17 @@ targets=("$@")
 jobs=${FUZZ_JOBS:-2}
 build=${BUILD_DIR:-$root/build-fuzz}
 
+if ! command -v clang++ >/dev/null 2>&1 || ! dpkg-query -W -f='${Status}' libclang-rt-14-dev 2>/dev/null | grep -q "ok installed"; then
+  # A fresh Debian machine has neither: install them when we may (root or sudo), as cmake/dev.sh does its packages.
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  if [ -z "$sudo" ] || command -v sudo >/dev/null 2>&1; then
+    echo "fuzz: installing clang and libclang-rt-14-dev"
+    $sudo apt-get update -qq >/dev/null 2>&1 || true
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends clang libclang-rt-14-dev \
+      >/dev/null 2>&1 || true
+  fi
+fi
 if ! command -v clang++ >/dev/null 2>&1; then
   echo "fuzz: skipped: clang++ not found (Debian: apt-get install clang libclang-rt-14-dev)"
   exit 0

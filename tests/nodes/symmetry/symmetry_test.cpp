@@ -99,6 +99,24 @@ TEST(Symmetry, TheQuotientMakesARingOfEquivalentMotionsOneVote) {
   for (int i = 1; i < 24; ++i) EXPECT_LT((votes.embedding.col(i) - votes.embedding.col(0)).norm(), 1e-9) << i;
 }
 
+TEST(Symmetry, TheQuotientMakesARingOfFlipsOneVoteToo) {
+  // G_theta o F for a flip F (a half turn about a horizontal axis): every member is as far from the identity, so the
+  // tie is broken by a reference direction; the ring must still collapse.
+  VoteResult votes;
+  VoteOptions vo;
+  const Eigen::Vector3d c(0.1, 0.2, 0.0);
+  const Similarity flip{Eigen::AngleAxisd(M_PI, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix(),
+                        Eigen::Vector3d(0.55, 0, 0.15), 1.0};
+  votes.embedding.resize(13, 24);
+  for (int i = 0; i < 24; ++i) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(i * 0.26, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    votes.embedding.col(i) = embed(Similarity{R, c - R * c, 1.0}.compose(flip), votes, vo);
+  }
+  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0}, vo);
+  for (int i = 1; i < 24; ++i) EXPECT_LT((votes.embedding.col(i) - votes.embedding.col(0)).norm(), 1e-9) << i;
+  EXPECT_TRUE(is_axis_rotation(unembed(votes.embedding.col(0), votes, vo).rotation, 1e-6));
+}
+
 TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   double alpha = 0;
   const PointSet box = samples_of(make_crate_template(), alpha);
