@@ -17,6 +17,7 @@
 #include "engine/console.h"
 #include "engine/fields.h"
 #include "engine/pipeline.h"
+#include "engine/staging.h"
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/input/input.h"
@@ -284,6 +285,7 @@ int main(int argc, char** argv) {
     return fail(what + " (see scanfill --help)", 2);
   }
   setup_logging(verbose, quiet);
+  remove_staging_on_signals();
   try {
     if (print_defaults) {
       std::cout << default_config_yaml();

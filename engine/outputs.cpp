@@ -1,5 +1,7 @@
 #include "engine/outputs.h"
 
+#include "engine/staging.h"
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -56,7 +58,7 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
     const Loaded& loaded = *f.sampled->loaded;
     const LoadResult& load = loaded.load;
     const std::string role = role_name(config.inputs[slot].role);
-    const std::filesystem::path out = config.output_dir / ("samples_" + role + ".ply");
+    const std::filesystem::path out = state.write_dir / ("samples_" + role + ".ply");
     write_ply(out, f.features.points);
     outcome.outputs.push_back(out);
     inputs[role] = {{"path", input_name(config.inputs[slot].spec)},
@@ -82,7 +84,7 @@ void write_output(const RunState& state, const Transferred& t, nlohmann::json& r
     origin[i] = double(int(o.origin[i]));
     ++by_origin[int(o.origin[i])];
   }
-  const std::filesystem::path out = config.output_dir / "output.ply";
+  const std::filesystem::path out = state.write_dir / "output.ply";
   write_ply(out, o.points,
             {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
   outcome.outputs.push_back(out);
@@ -126,7 +128,7 @@ nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcom
     const auto c = label_colour(l, L.self_label);
     for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
   }
-  const std::filesystem::path out = state.config.output_dir / "analogy.ply";
+  const std::filesystem::path out = state.write_dir / "analogy.ply";
   write_ply(out, a.votes().target->features.points,
             {{"label", PlyProperty::Type::kInt32, label},
              {"red", PlyProperty::Type::kUint8, rgb[0]},
@@ -184,13 +186,10 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
 
 }  // namespace
 
-RunOutcome write_outputs(RunState& state) {
+RunOutcome write_outputs(RunState& state, Staging& staging) {
   const RunConfig& config = state.config;
   RunOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
-  std::error_code ec;
-  std::filesystem::create_directories(config.output_dir, ec);
-  if (ec) throw IoError(config.output_dir.string() + ": cannot create the output folder (" + ec.message() + ")");
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
   if (state.output()) write_output(state, *state.output(), report, outcome);
   nlohmann::json transforms = nlohmann::json::array();
@@ -209,9 +208,13 @@ RunOutcome write_outputs(RunState& state) {
   report["nodes"] = node_list;
   report["peak_rss_mb"] = peak_rss_mb();
   report["warnings"] = state.warnings();
-  const std::filesystem::path report_path = config.output_dir / "report.json";
+  const std::filesystem::path report_path = state.write_dir / "report.json";
   write_file_atomic(report_path, report.dump(2) + "\n");
   outcome.outputs.push_back(report_path);
+  // Every file is written: flush them and move them into the output folder together.
+  std::vector<std::string> names;
+  for (const auto& out : outcome.outputs) names.push_back(out.filename().string());
+  outcome.outputs = staging.commit(names);
   outcome.summary = summary(config, report, bool(state.output()));
   outcome.nodes = state.timings();
   outcome.warnings = state.warnings();

@@ -1,6 +1,6 @@
 // The outputs of a run (DESIGN section 5), written after the whole graph has succeeded: samples_ROLE.ply per input,
 // output.ply (completion, transfer), analogy.ply with a colour per transform, report.json last; and the summary shown
-// to the user. Every file is written atomically.
+// to the user. The run fails whole: files are staged beside the output folder and moved in together (engine/staging.h).
 #pragma once
 
 #include "engine/pipeline.h"
@@ -8,6 +8,9 @@
 
 namespace scanfill {
 
-RunOutcome write_outputs(RunState& state);
+class Staging;
+
+// Writes into the staging folder (state.write_dir), then commits it: the files appear in output.dir together.
+RunOutcome write_outputs(RunState& state, Staging& staging);
 
 }  // namespace scanfill

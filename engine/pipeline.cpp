@@ -5,6 +5,7 @@
 
 #include "engine/outputs.h"
 #include "engine/stages.h"
+#include "engine/staging.h"
 #include "nodes/core/errors.h"
 
 namespace scanfill {
@@ -164,7 +165,11 @@ double peak_rss_mb() {
 }
 
 RunOutcome run(const RunConfig& config) {
+  // Refused before any work: an output that would overwrite an input, an output folder that cannot be written.
+  check_outputs_spare_inputs(config);
+  Staging staging(config.output_dir);
   RunState state(config);
+  state.write_dir = staging.folder();
   flow::graph g;
   Wiring w(g, state);
   switch (config.mode) {
@@ -179,7 +184,7 @@ RunOutcome run(const RunConfig& config) {
       break;
   }
   w.run();
-  return write_outputs(state);
+  return write_outputs(state, staging);
 }
 
 }  // namespace scanfill

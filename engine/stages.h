@@ -109,6 +109,7 @@ class RunState {
  public:
   explicit RunState(const RunConfig& config) : config(config), inputs_(config.inputs.size()) {}
   const RunConfig& config;
+  std::filesystem::path write_dir;  // the staging folder the writer writes into (engine/staging.h)
 
   void record(const std::string& name, double seconds);
   void warn(const std::string& node, const std::string& what);

@@ -1,0 +1,112 @@
+#include "engine/staging.h"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstring>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+namespace {
+
+// The folder a signal must remove: a fixed buffer, readable from a signal handler.
+char g_staging[4096] = {0};
+std::atomic<bool> g_staging_set{false};
+
+void remove_folder_now(const char* folder) {
+  // Only calls a signal handler may make (opendir/readdir allocate in glibc, but the process ends right after).
+  if (DIR* d = opendir(folder)) {
+    char path[4096 + 256];
+    while (const dirent* e = readdir(d)) {
+      if (std::strcmp(e->d_name, ".") == 0 || std::strcmp(e->d_name, "..") == 0) continue;
+      std::snprintf(path, sizeof(path), "%s/%s", folder, e->d_name);
+      unlink(path);
+    }
+    closedir(d);
+  }
+  rmdir(folder);
+}
+
+extern "C" void on_signal(int sig) {
+  if (g_staging_set.load()) remove_folder_now(g_staging);
+  _exit(128 + sig);
+}
+
+void sync_file(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    if (fd >= 0) ::close(fd);
+    throw IoError(path.string() + ": cannot be flushed to disk (" + std::strerror(errno) + ")");
+  }
+  ::close(fd);
+}
+
+}  // namespace
+
+Staging::Staging(const std::filesystem::path& output_dir) : output_dir_(output_dir) {
+  std::error_code ec;
+  if (std::filesystem::exists(output_dir_, ec) && !std::filesystem::is_directory(output_dir_, ec))
+    throw IoError(output_dir_.string() + ": the output folder is a file");
+  std::filesystem::path parent = std::filesystem::absolute(output_dir_, ec).parent_path();
+  std::filesystem::create_directories(parent, ec);
+  if (ec) throw IoError(parent.string() + ": cannot create the output folder's parent (" + ec.message() + ")");
+  folder_ = parent / ("." + output_dir_.filename().string() + ".scanfill-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(folder_, ec);
+  if (!std::filesystem::create_directory(folder_, ec) || ec)
+    throw IoError(folder_.string() + ": cannot create a folder beside the output folder (" + ec.message() + ")");
+  if (folder_.string().size() < sizeof(g_staging)) {
+    std::strcpy(g_staging, folder_.c_str());
+    g_staging_set.store(true);
+  }
+}
+
+Staging::~Staging() {
+  g_staging_set.store(false);
+  if (committed_) return;
+  std::error_code ec;
+  std::filesystem::remove_all(folder_, ec);
+}
+
+std::vector<std::filesystem::path> Staging::commit(const std::vector<std::string>& names) {
+  for (const auto& name : names) sync_file(folder_ / name);
+  std::error_code ec;
+  std::filesystem::create_directories(output_dir_, ec);
+  if (ec) throw IoError(output_dir_.string() + ": cannot create the output folder (" + ec.message() + ")");
+  std::vector<std::filesystem::path> done;
+  for (const auto& name : names) {
+    std::filesystem::rename(folder_ / name, output_dir_ / name, ec);
+    if (ec) throw IoError((output_dir_ / name).string() + ": cannot be moved into place (" + ec.message() + ")");
+    done.push_back(output_dir_ / name);
+  }
+  sync_file(output_dir_);
+  g_staging_set.store(false);
+  std::filesystem::remove_all(folder_, ec);
+  committed_ = true;
+  return done;
+}
+
+void check_outputs_spare_inputs(const RunConfig& config) {
+  std::vector<std::filesystem::path> written{"output.ply", "analogy.ply", "report.json"};
+  for (const auto& input : config.inputs) written.push_back("samples_" + role_name(input.role) + ".ply");
+  std::error_code ec;
+  for (const auto& input : config.inputs) {
+    if (input.spec.path.empty()) continue;
+    const auto in = std::filesystem::weakly_canonical(input.spec.path, ec);
+    for (const auto& name : written)
+      if (!ec && in == std::filesystem::weakly_canonical(config.output_dir / name, ec))
+        throw ConfigError("inputs." + role_name(input.role) + ": " + input.spec.path.string() +
+                          " would be overwritten by this run's " + name.string() +
+                          " (output.dir: " + config.output_dir.string() + "); choose another output.dir");
+  }
+}
+
+void remove_staging_on_signals() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+
+}  // namespace scanfill
