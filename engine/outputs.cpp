@@ -76,7 +76,6 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
 
 // output.ply; the report's output, synthesis and correspondence.
 void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
-  const RunConfig& config = state.config;
   const TransferResult& o = t.output;
   std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
   Index by_origin[3] = {0, 0, 0};
