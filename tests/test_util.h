@@ -59,6 +59,14 @@ struct CommandResult {
   std::string out;  // stdout and stderr together
 };
 
+// Shell-quoted path, built with += (GCC 12 warns falsely on "'" + std::string&&, PR 105329).
+inline std::string quoted(const std::filesystem::path& p) {
+  std::string s = "'";
+  s += p.string();
+  s += "'";
+  return s;
+}
+
 // Runs the scanfill binary with `args` (a shell-quoted string), capturing its output.
 inline CommandResult run_scanfill(const std::string& args) {
   const std::string cmd = std::string("'") + SCANFILL_BINARY + "' " + args + " 2>&1";

@@ -11,12 +11,8 @@ namespace {
 
 using test::run_scanfill;
 
-// Shell-quoted path, built with += (GCC 12 warns falsely on "'" + std::string&&, PR 105329).
 std::string q(const std::filesystem::path& p) {
-  std::string s = "'";
-  s += p.string();
-  s += "'";
-  return s;
+  return test::quoted(p);
 }
 
 TEST(Cli, VersionHelpAndNothingToDo) {

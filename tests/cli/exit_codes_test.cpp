@@ -14,10 +14,7 @@ namespace {
 using test::run_scanfill;
 
 std::string q(const std::filesystem::path& p) {
-  std::string s = "'";
-  s += p.string();
-  s += "'";
-  return s;
+  return test::quoted(p);
 }
 
 struct Expect {

@@ -17,7 +17,7 @@ namespace {
 using test::run_scanfill;
 
 std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
+  return test::quoted(p);
 }
 
 // A small completion of the procedural vase: a few seconds.
