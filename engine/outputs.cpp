@@ -128,7 +128,7 @@ nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcom
     for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
   }
   const std::filesystem::path out = state.write_dir / "analogy.ply";
-  write_ply(out, a.votes().target->features.points,
+  write_ply(out, a.votes().target()->features.points,
             {{"label", PlyProperty::Type::kInt32, label},
              {"red", PlyProperty::Type::kUint8, rgb[0]},
              {"green", PlyProperty::Type::kUint8, rgb[1]},

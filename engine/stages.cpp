@@ -178,14 +178,11 @@ VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
   return run_node(state, "vote", "", [&](const ProgressFn&) {
     auto v = std::make_shared<Votes>();
     v->symmetries = in;
-    v->source = in->source;
-    v->target = in->target;
-    v->spacing = in->spacing;
-    v->votes = vote(v->source, v->target->features.points, v->spacing, state.config.vote);
+    v->votes = vote(in->source, in->target->features.points, in->spacing, state.config.vote);
     // A source symmetric about an axis votes for rings of equivalent motions: one mode per ring (DESIGN section 9).
     if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous, state.config.vote);
     node_logger("vote")->info("{} votes from {} target samples{}", v->votes.embedding.cols(),
-                              std::min<Index>(state.config.vote.target_samples, v->target->features.points.size()),
+                              std::min<Index>(state.config.vote.target_samples, in->target->features.points.size()),
                               in->source_symmetry.continuous ? ", modulo the source's continuous symmetry" : "");
     return VotesPtr(std::move(v));
   });
@@ -209,12 +206,12 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both.
     SupportOptions options = config.support;
     options.allow_scale = config.vote.allow_scale;
-    const PointSet& T = v.target->features.points;
-    const SupportResult voted = grow_supports(v.source, T, in->modes.modes, v.spacing,
+    const PointSet& T = v.target()->features.points;
+    const SupportResult voted = grow_supports(v.source(), T, in->modes.modes, v.spacing(),
                                               mode_accuracy(v.votes, config.vote, config.modes), options);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const std::vector<Mode> composed = composed_candidates(voted, v.symmetries->target_symmetry, T, config.symmetry);
-    s->support = extend_supports(v.source, T, voted, composed, v.spacing, 0.0, options);
+    s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());
     node_logger("support")->info(
@@ -231,7 +228,7 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
     auto a = std::make_shared<Labelled>();
     a->supports = in;
     a->labels =
-        label_target(v.source, v.target->features.points, in->support.transforms, v.spacing, state.config.label);
+        label_target(v.source(), v.target()->features.points, in->support.transforms, v.spacing(), state.config.label);
     node_logger("label")->info("energy {:.6g} -> {:.6g} in {} sweeps; {} samples relabelled by the clean-up",
                                a->labels.energy_before, a->labels.energy_after, a->labels.cycles, a->labels.cleaned);
     state.keep(a);
@@ -254,12 +251,12 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              map.rigid,
                              map.exemplar_source,
                              correspondence->source->features.points,
-                             v.target->features.points,
+                             v.target()->features.points,
                              analogy->labels.labels,
                              analogy->labels.self_label,
                              transforms,
                              coverage ? &coverage->cover.covered : nullptr};
-    out->synthesis = synthesize(in, v.spacing, state.config.synthesize);
+    out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];
     node_logger("synthesize")
@@ -271,8 +268,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
 
 AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in) {
   return run_node(state, "align", "", [&](const ProgressFn&) {
-    auto out =
-        std::make_shared<Aligned>(Aligned{in, align(in->synthesis, in->analogy->votes().spacing, state.config.align)});
+    auto out = std::make_shared<Aligned>(
+        Aligned{in, align(in->synthesis, in->analogy->votes().spacing(), state.config.align)});
     node_logger("align")->info("{} seam pairs, RMS gap {:.4g} -> {:.4g}", out->alignment.seam_pairs,
                                out->alignment.gap_before, out->alignment.gap_after);
     return AlignedPtr(std::move(out));
@@ -283,7 +280,7 @@ TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_sca
   return run_node(state, "transfer", "", [&](const ProgressFn& progress) {
     const Synthesized& syn = *in->synthesized;
     const Correspondence& c = *syn.correspondence;
-    const Featured& target = *syn.analogy->votes().target;
+    const Featured& target = *syn.analogy->votes().target();
     const TransferInputs inputs{c.exemplar->sampled->loaded->load.points,
                                 c.exemplar->features.points,
                                 target.sampled->loaded->load.points,

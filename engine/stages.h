@@ -58,11 +58,11 @@ struct Symmetries {
 };
 using SymmetriesPtr = std::shared_ptr<const Symmetries>;
 struct Votes {
-  SymmetriesPtr symmetries;
-  PointSet source;  // S
-  FeaturedPtr target;
-  double spacing = 0;
+  SymmetriesPtr symmetries;  // S, T and alpha, with their symmetries
   VoteResult votes;
+  const PointSet& source() const { return symmetries->source; }
+  const FeaturedPtr& target() const { return symmetries->target; }
+  double spacing() const { return symmetries->spacing; }
 };
 using VotesPtr = std::shared_ptr<const Votes>;
 struct FoundModes {

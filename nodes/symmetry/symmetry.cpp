@@ -85,12 +85,24 @@ std::vector<Similarity> close_group(const std::vector<Similarity>& generators, d
   return group;
 }
 
-}  // namespace
-
-double symmetry_overlap(const PointSet& shape, const Similarity& q, double spacing, const SymmetryOptions& o) {
-  if (!shape.has_normals()) throw InvariantError("symmetry needs normals");
-  return Scorer(shape, spacing, o).overlap(q);
+// The angle theta of the rotation G_theta about the unit axis a that picks one member of the family G_theta R: the one
+// nearest the identity; when the whole family is about as far from it (R turns a over, as a flip does: every member
+// has the same trace), the one that keeps a fixed reference direction e, perpendicular to a, best (e G_theta R e
+// largest), so that a ring of flips is one mode as well.
+double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
+  Eigen::Matrix3d across;  // [a]_x
+  across << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  // trace(G_theta R) = a'Ra + cos(theta) (tr R - a'Ra) + sin(theta) tr([a]_x R): largest at theta = atan2(B, A).
+  const double A = R.trace() - a.dot(R * a), B = (across * R).trace();
+  if (std::hypot(A, B) > 0.25) return std::atan2(B, A);
+  Eigen::Vector3d e = Eigen::Vector3d::UnitX() - a.x() * a;
+  if (e.norm() < 0.5) e = Eigen::Vector3d::UnitY() - a.y() * a;
+  e.normalize();
+  const Eigen::Vector3d r = R * e, r_perp = r - a.dot(r) * a;
+  return std::atan2(e.dot(a.cross(r_perp)), e.dot(r_perp));
 }
+
+}  // namespace
 
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& o) {
   check_options(o);
@@ -133,27 +145,6 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   result.rotations = close_group(generators, spacing, o.max_group);
   return result;
 }
-
-namespace {
-
-// The angle theta of the rotation G_theta about the unit axis a that picks one member of the family G_theta R: the one
-// nearest the identity; when the whole family is about as far from it (R turns a over, as a flip does: every member
-// has the same trace), the one that keeps a fixed reference direction e, perpendicular to a, best (e G_theta R e
-// largest), so that a ring of flips is one mode as well.
-double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
-  Eigen::Matrix3d across;  // [a]_x
-  across << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  // trace(G_theta R) = a'Ra + cos(theta) (tr R - a'Ra) + sin(theta) tr([a]_x R): largest at theta = atan2(B, A).
-  const double A = R.trace() - a.dot(R * a), B = (across * R).trace();
-  if (std::hypot(A, B) > 0.25) return std::atan2(B, A);
-  Eigen::Vector3d e = Eigen::Vector3d::UnitX() - a.x() * a;
-  if (e.norm() < 0.5) e = Eigen::Vector3d::UnitY() - a.y() * a;
-  e.normalize();
-  const Eigen::Vector3d r = R * e, r_perp = r - a.dot(r) * a;
-  return std::atan2(e.dot(a.cross(r_perp)), e.dot(r_perp));
-}
-
-}  // namespace
 
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {

@@ -57,9 +57,6 @@ struct SymmetryResult {
 // `shape` needs normals; `spacing` is alpha. Deterministic.
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& options);
 
-// Share of `shape`'s samples that `q` maps onto the shape (the test above), on at most `test_samples` of them.
-double symmetry_overlap(const PointSet& shape, const Similarity& q, double spacing, const SymmetryOptions& options);
-
 // Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
 // member of its family G_theta o Q (G_theta the rotation about the axis, which leaves S unchanged) whose rotation is
 // nearest the identity, so that a ring of equivalent motions becomes one mode. Its phase is fixed later.
