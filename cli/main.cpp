@@ -204,75 +204,143 @@ int run_scan(const std::string& input, const std::string& output, const std::str
   return 0;
 }
 
+// Flags every command takes.
+struct CommonFlags {
+  int threads = 0;
+  bool verbose = false, quiet = false;
+};
+
+void add_common_flags(CLI::App* cmd, CommonFlags& c) {
+  cmd->add_option("--threads", c.threads, "worker threads (default: all cores)")->check(number_in(1, 1 << 16));
+  cmd->add_flag("-v,--verbose", c.verbose, "debug logging");
+  cmd->add_flag("-q,--quiet", c.quiet, "warnings and errors only");
+}
+
+struct InfoArgs {
+  std::string file;
+  bool json = false;
+};
+
+CLI::App* add_info_command(CLI::App& app, InfoArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("info", "print format, counts, bounding box and attributes of a file");
+  cmd->add_option("file", a.file, "point cloud or mesh (.ply .pcd .obj .off .stl .xyz)")->required();
+  cmd->add_flag("--json", a.json, "print JSON");
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+struct SampleArgs {
+  std::string input, output;
+  double spacing = 0;
+  Index count = 0;
+  std::uint64_t seed = 1;
+  int k = FeaturesOptions{}.k;
+};
+
+CLI::App* add_sample_command(CLI::App& app, SampleArgs& a, CommonFlags& common) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  CLI::App* cmd = app.add_subcommand("sample", "Poisson-disk sampling plus features of one file, written as PLY");
+  cmd->add_option("--input", a.input, "point cloud or mesh (file, procedural:NAME or revolution:FILE)")->required();
+  cmd->add_option("--output", a.output, "output .ply (x y z nx ny nz k1 k2 d1x d1y d1z)")->required();
+  auto* spacing =
+      cmd->add_option("--spacing", a.spacing, "mean sample spacing, model units")->check(number_in(0, kMax, true));
+  auto* count = cmd->add_option("--count", a.count, "number of samples (default 20000)")->check(number_in(1, kMax));
+  spacing->excludes(count);
+  cmd->add_option("--seed", a.seed, "random seed (meshes)");
+  cmd->add_option("--k", a.k, "neighbours for normals and curvature")->check(number_in(6, 128));
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+struct EvalArgs {
+  std::string output, reference, scan, template_shape;
+  double threshold = 0.01;
+  Index samples = EvalOptions{}.surface_samples;
+  bool baselines = false;
+};
+
+CLI::App* add_eval_command(CLI::App& app, EvalArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("eval", "accuracy of an output against a complete reference, as JSON");
+  cmd->add_option("--output", a.output, "the completed or stylised model (file or procedural:NAME)")->required();
+  cmd->add_option("--reference", a.reference, "the complete model to compare with")->required();
+  cmd->add_option("--threshold", a.threshold, "F-score distance as a fraction of the reference's bounding-box diagonal")
+      ->check(number_in(1e-9, 1.0));
+  cmd->add_option("--scan", a.scan, "the partial scan (with --template: unseen-detail recall)");
+  cmd->add_option("--template", a.template_shape, "the structural template (with --scan)");
+  cmd->add_flag("--baselines", a.baselines,
+                "with --scan and --template: also score the scan alone and the template-blending completion");
+  cmd->add_option("--samples", a.samples, "random points drawn on each mesh")
+      ->check(number_in(1, double(Index(1) << 30)));
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+struct ScanArgs {
+  std::string input, output, eye, target, resolution;
+  double fov = ScanOptions{}.fov_deg, noise = 0;
+  std::uint64_t seed = 1;
+};
+
+CLI::App* add_scan_command(CLI::App& app, ScanArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("scan", "a single-view virtual range scan of a mesh, written as PLY");
+  cmd->add_option("--input", a.input, "the mesh (file, procedural:NAME or revolution:FILE)")->required();
+  cmd->add_option("--output", a.output, "output .ply (x y z nx ny nz; viewpoint = the eye)")->required();
+  cmd->add_option("--eye", a.eye, "camera position X,Y,Z")->required();
+  cmd->add_option("--target", a.target, "point looked at X,Y,Z (default 0,0,0)");
+  cmd->add_option("--resolution", a.resolution, "image size W,H (default 640,480)");
+  cmd->add_option("--fov", a.fov, "vertical field of view in degrees")->check(number_in(0.001, 179.0));
+  cmd->add_option("--noise", a.noise, "Gaussian noise sigma along the ray, model units")
+      ->check(number_in(0, std::numeric_limits<double>::max()));
+  cmd->add_option("--seed", a.seed, "noise seed");
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+// The main run: the pipeline a config file describes.
+int run_config(const std::string& config_path, int threads) {
+  RunConfig config;
+  try {
+    config = load_config(config_path);
+  } catch (const ConfigError& e) {
+    return fail(e.what(), 2);
+  }
+  if (threads > 0) config.threads = threads;
+  const auto limit = limit_threads(config.threads);
+  spdlog::info("{} run of {} on {} threads", mode_name(config.mode), config_path,
+               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const RunOutcome outcome = run(config);
+  std::cout << outcome.summary;
+  for (const auto& out : outcome.outputs) std::cout << "  wrote " << out.string() << "\n";
+  std::cout << "  peak memory " << int(peak_rss_mb()) << " MiB" << std::endl;
+  return 0;
+}
+
+// Runs f with at most `threads` worker threads (0: all cores).
+template <typename F>
+int with_threads(int threads, F&& f) {
+  const auto limit = limit_threads(threads);
+  return f();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  constexpr double kMax = std::numeric_limits<double>::max();
   CLI::App app{"scanfill: complete partial 3D scans and transfer geometric style by shape analogies"};
   app.set_version_flag("--version", std::string("scanfill ") + SCANFILL_VERSION);
   std::string config_path;
-  bool print_defaults = false, verbose = false, quiet = false;
-  int threads = 0;
+  bool print_defaults = false;
+  CommonFlags common;
   app.add_option("--config", config_path, "run the pipeline configured by this YAML file")->check(CLI::ExistingFile);
   app.add_flag("--print-defaults", print_defaults, "print a complete config with every option and its default");
-  auto add_common = [&](CLI::App* cmd) {
-    cmd->add_option("--threads", threads, "worker threads (default: all cores)")->check(number_in(1, 1 << 16));
-    cmd->add_flag("-v,--verbose", verbose, "debug logging");
-    cmd->add_flag("-q,--quiet", quiet, "warnings and errors only");
-  };
-  add_common(&app);
-
-  CLI::App* info = app.add_subcommand("info", "print format, counts, bounding box and attributes of a file");
-  std::string info_file;
-  bool info_json = false;
-  info->add_option("file", info_file, "point cloud or mesh (.ply .pcd .obj .off .stl .xyz)")->required();
-  info->add_flag("--json", info_json, "print JSON");
-  add_common(info);
-
-  CLI::App* samp = app.add_subcommand("sample", "Poisson-disk sampling plus features of one file, written as PLY");
-  std::string s_in, s_out;
-  double s_spacing = 0;
-  Index s_count = 0;
-  std::uint64_t s_seed = 1;
-  int s_k = FeaturesOptions{}.k;
-  samp->add_option("--input", s_in, "point cloud or mesh (file, procedural:NAME or revolution:FILE)")->required();
-  samp->add_option("--output", s_out, "output .ply (x y z nx ny nz k1 k2 d1x d1y d1z)")->required();
-  auto* sp =
-      samp->add_option("--spacing", s_spacing, "mean sample spacing, model units")->check(number_in(0, kMax, true));
-  auto* ct = samp->add_option("--count", s_count, "number of samples (default 20000)")->check(number_in(1, kMax));
-  sp->excludes(ct);
-  samp->add_option("--seed", s_seed, "random seed (meshes)");
-  samp->add_option("--k", s_k, "neighbours for normals and curvature")->check(number_in(6, 128));
-  add_common(samp);
-  CLI::App* ev = app.add_subcommand("eval", "accuracy of an output against a complete reference, as JSON");
-  std::string e_out, e_ref, e_scan, e_template;
-  double e_threshold = 0.01;
-  Index e_samples = EvalOptions{}.surface_samples;
-  ev->add_option("--output", e_out, "the completed or stylised model (file or procedural:NAME)")->required();
-  ev->add_option("--reference", e_ref, "the complete model to compare with")->required();
-  ev->add_option("--threshold", e_threshold, "F-score distance as a fraction of the reference's bounding-box diagonal")
-      ->check(number_in(1e-9, 1.0));
-  ev->add_option("--scan", e_scan, "the partial scan (with --template: unseen-detail recall)");
-  ev->add_option("--template", e_template, "the structural template (with --scan)");
-  bool e_baselines = false;
-  ev->add_flag("--baselines", e_baselines,
-               "with --scan and --template: also score the scan alone and the template-blending completion");
-  ev->add_option("--samples", e_samples, "random points drawn on each mesh")
-      ->check(number_in(1, double(Index(1) << 30)));
-  add_common(ev);
-  CLI::App* sc = app.add_subcommand("scan", "a single-view virtual range scan of a mesh, written as PLY");
-  std::string c_in, c_out, c_eye, c_target, c_resolution;
-  double c_fov = ScanOptions{}.fov_deg, c_noise = 0;
-  std::uint64_t c_seed = 1;
-  sc->add_option("--input", c_in, "the mesh (file, procedural:NAME or revolution:FILE)")->required();
-  sc->add_option("--output", c_out, "output .ply (x y z nx ny nz; viewpoint = the eye)")->required();
-  sc->add_option("--eye", c_eye, "camera position X,Y,Z")->required();
-  sc->add_option("--target", c_target, "point looked at X,Y,Z (default 0,0,0)");
-  sc->add_option("--resolution", c_resolution, "image size W,H (default 640,480)");
-  sc->add_option("--fov", c_fov, "vertical field of view in degrees")->check(number_in(0.001, 179.0));
-  sc->add_option("--noise", c_noise, "Gaussian noise sigma along the ray, model units")->check(number_in(0, kMax));
-  sc->add_option("--seed", c_seed, "noise seed");
-  add_common(sc);
+  add_common_flags(&app, common);
+  InfoArgs info;
+  SampleArgs samp;
+  EvalArgs ev;
+  ScanArgs sc;
+  CLI::App* info_cmd = add_info_command(app, info, common);
+  CLI::App* sample_cmd = add_sample_command(app, samp, common);
+  CLI::App* eval_cmd = add_eval_command(app, ev, common);
+  CLI::App* scan_cmd = add_scan_command(app, sc, common);
   app.require_subcommand(0, 1);
 
   try {
@@ -284,48 +352,31 @@ int main(int argc, char** argv) {
     std::replace(what.begin(), what.end(), '\n', ' ');
     return fail(what + " (see scanfill --help)", 2);
   }
-  setup_logging(verbose, quiet);
+  setup_logging(common.verbose, common.quiet);
   remove_staging_on_signals();
   try {
     if (print_defaults) {
       std::cout << default_config_yaml();
       return 0;
     }
-    if (info->parsed()) {
-      const auto limit = limit_threads(threads);
-      return run_info(info_file, info_json);
-    }
-    if (sc->parsed()) {
-      const auto limit = limit_threads(threads);
-      return run_scan(c_in, c_out, c_eye, c_target, c_resolution, c_fov, c_noise, c_seed);
-    }
-    if (ev->parsed()) {
-      const auto limit = limit_threads(threads);
-      return run_eval(e_out, e_ref, e_threshold, e_scan, e_template, e_samples, e_baselines);
-    }
-    if (samp->parsed()) {
-      const auto limit = limit_threads(threads);
-      return run_sample(s_in, s_out, s_spacing, s_count, s_seed, s_k);
-    }
+    if (info_cmd->parsed()) return with_threads(common.threads, [&] { return run_info(info.file, info.json); });
+    if (scan_cmd->parsed())
+      return with_threads(common.threads, [&] {
+        return run_scan(sc.input, sc.output, sc.eye, sc.target, sc.resolution, sc.fov, sc.noise, sc.seed);
+      });
+    if (eval_cmd->parsed())
+      return with_threads(common.threads, [&] {
+        return run_eval(ev.output, ev.reference, ev.threshold, ev.scan, ev.template_shape, ev.samples, ev.baselines);
+      });
+    if (sample_cmd->parsed())
+      return with_threads(common.threads, [&] {
+        return run_sample(samp.input, samp.output, samp.spacing, samp.count, samp.seed, samp.k);
+      });
     if (config_path.empty()) {
       std::cerr << app.help() << std::endl;
       return fail("nothing to do: give --config FILE, --print-defaults or a subcommand", 2);
     }
-    RunConfig config;
-    try {
-      config = load_config(config_path);
-    } catch (const ConfigError& e) {
-      return fail(e.what(), 2);
-    }
-    if (threads > 0) config.threads = threads;
-    const auto limit = limit_threads(config.threads);
-    spdlog::info("{} run of {} on {} threads", mode_name(config.mode), config_path,
-                 tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    const RunOutcome outcome = run(config);
-    std::cout << outcome.summary;
-    for (const auto& out : outcome.outputs) std::cout << "  wrote " << out.string() << "\n";
-    std::cout << "  peak memory " << int(peak_rss_mb()) << " MiB" << std::endl;
-    return 0;
+    return run_config(config_path, common.threads);
   } catch (const ConfigError& e) {
     return fail(e.what(), 2);
   } catch (const Error& e) {

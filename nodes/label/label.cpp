@@ -35,23 +35,20 @@ double residual_axis_angle(const Eigen::Matrix3d& R) {
   return best;
 }
 
-LabelResult label_target(const PointSet& source, const PointSet& target,
-                         const std::vector<SupportedTransform>& transforms, double spacing, const LabelOptions& o) {
-  check_options(o);  // the config checks these too; a direct caller gets the same checks
-  const Index n = target.size();
-  const int L = int(transforms.size());
-  LabelResult result;
-  result.self_label = L;
-  KdTree source_tree, target_tree;
-  source_tree.build(source.positions());
-  target_tree.build(target.positions());
-  const double sp2 = 2 * std::pow(o.sigma_p * spacing, 2), sn2 = o.sigma_n * o.sigma_n;
+namespace {
 
-  // Feasible labels, sparse: the sites within `dilation` alpha of a label's support, found by radius queries around
-  // the support samples (never a test of every site against every label).
-  const double reach = o.dilation * spacing, reach2 = reach * reach + 1e-30;
-  std::vector<std::vector<std::int32_t>> feasible(static_cast<size_t>(L));
-  tbb::parallel_for(0, L, [&](int l) {
+// Scales of eq. 5 and 7: 2 (sigma_p alpha)^2 and sigma_n^2.
+struct DataScales {
+  double position2, normal2;
+};
+
+// Feasible labels, sparse: the sites within `dilation` alpha of each label's support, found by radius queries
+// around the support samples (never a test of every site against every label). Sorted, without repeats.
+std::vector<std::vector<std::int32_t>> feasible_sites(const PointSet& target, const KdTree& target_tree,
+                                                      const std::vector<SupportedTransform>& transforms, double reach) {
+  const double reach2 = reach * reach + 1e-30;
+  std::vector<std::vector<std::int32_t>> feasible(transforms.size());
+  tbb::parallel_for(0, int(transforms.size()), [&](int l) {
     auto& sites = feasible[size_t(l)];
     std::vector<Neighbor> hits;
     for (const auto t : transforms[size_t(l)].support) {
@@ -63,120 +60,191 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
     std::sort(sites.begin(), sites.end());
     sites.erase(std::unique(sites.begin(), sites.end()), sites.end());
   });
-  // Unaries (eq. 5, log domain, capped) in CSR by site: the feasible labels in increasing order, then the self label.
-  LabelingProblem problem;
-  problem.labels = L + 1;
-  problem.sites = n;
+  return feasible;
+}
+
+// The unary table's layout, CSR by site: each site's feasible labels in increasing order, then the self label L.
+void list_feasible_labels(const std::vector<std::vector<std::int32_t>>& feasible, Index n, LabelingProblem& problem) {
+  const int L = int(feasible.size());
   problem.unary_offset.assign(size_t(n) + 1, 0);
   for (const auto& sites : feasible)
     for (const auto t : sites) ++problem.unary_offset[size_t(t) + 1];
   for (Index t = 0; t < n; ++t) problem.unary_offset[size_t(t) + 1] += problem.unary_offset[size_t(t)] + 1;  // + self
   problem.unary_label.resize(size_t(problem.unary_offset.back()));
   problem.unary_cost.resize(size_t(problem.unary_offset.back()));
-  {
-    std::vector<std::int64_t> fill(problem.unary_offset.begin(), problem.unary_offset.end() - 1);
-    for (int l = 0; l < L; ++l)
-      for (const auto t : feasible[size_t(l)]) problem.unary_label[size_t(fill[size_t(t)]++)] = l;
-    for (Index t = 0; t < n; ++t) problem.unary_label[size_t(fill[size_t(t)])] = L;
+  std::vector<std::int64_t> fill(problem.unary_offset.begin(), problem.unary_offset.end() - 1);
+  for (int l = 0; l < L; ++l)
+    for (const auto t : feasible[size_t(l)]) problem.unary_label[size_t(fill[size_t(t)]++)] = l;
+  for (Index t = 0; t < n; ++t) problem.unary_label[size_t(fill[size_t(t)])] = L;
+}
+
+// Eq. 5 in the log domain, capped, for target sample t under transform q.
+double eq5_unary(const PointSet& source, const KdTree& source_tree, const PointSet& target, Index t,
+                 const Similarity& q, double spacing, DataScales scales, const LabelOptions& o) {
+  const Eigen::Vector3d p = q.apply(target.positions().col(t));
+  std::int32_t s;
+  double d2;
+  source_tree.knn(p, 1, &s, &d2);
+  const double d_point = std::sqrt(d2);
+  double d = d_point;
+  if (o.point_to_plane) {
+    const double plane = std::abs(source.normals().col(s).dot(p - source.positions().col(s)));
+    d = std::hypot(plane, std::max(0.0, d_point - spacing));
   }
-  tbb::parallel_for(Index(0), n, [&](Index t) {
+  const double c = q.apply_normal(target.normals().col(t)).dot(source.normals().col(s));
+  return std::min(o.unary_cap, d * d / scales.position2 + (1 - c) / scales.normal2);
+}
+
+void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const PointSet& target,
+                      const std::vector<SupportedTransform>& transforms, double spacing, DataScales scales,
+                      const LabelOptions& o, LabelingProblem& problem) {
+  const int L = int(transforms.size());
+  tbb::parallel_for(Index(0), target.size(), [&](Index t) {
     for (std::int64_t e = problem.unary_offset[size_t(t)]; e < problem.unary_offset[size_t(t) + 1]; ++e) {
       const int l = problem.unary_label[size_t(e)];
-      if (l == L) {
-        problem.unary_cost[size_t(e)] = o.self_cost;
-        continue;
-      }
-      const Similarity& q = transforms[size_t(l)].transform;
-      const Eigen::Vector3d p = q.apply(target.positions().col(t));
-      std::int32_t s;
-      double d2;
-      source_tree.knn(p, 1, &s, &d2);
-      const double d_point = std::sqrt(d2);
-      double d = d_point;
-      if (o.point_to_plane) {
-        const double plane = std::abs(source.normals().col(s).dot(p - source.positions().col(s)));
-        d = std::hypot(plane, std::max(0.0, d_point - spacing));
-      }
-      const double c = q.apply_normal(target.normals().col(t)).dot(source.normals().col(s));
-      problem.unary_cost[size_t(e)] = std::min(o.unary_cap, d * d / sp2 + (1 - c) / sn2);
+      problem.unary_cost[size_t(e)] =
+          l == L ? o.self_cost
+                 : eq5_unary(source, source_tree, target, t, transforms[size_t(l)].transform, spacing, scales, o);
     }
   });
-  // MRF edges: mrf_k nearest neighbours with compatible normals, each pair once.
-  const int k = std::min<int>(o.mrf_k, int(n) - 1);
+}
+
+// MRF edges: mrf_k nearest neighbours with normals within 60 degrees, each pair once.
+std::vector<std::pair<std::int32_t, std::int32_t>> mrf_edges(const PointSet& target, const KdTree& target_tree,
+                                                             int mrf_k) {
+  const Index n = target.size();
+  const int k = std::min<int>(mrf_k, int(n) - 1);
   const std::vector<std::int32_t> knn = knn_graph(target_tree, target.positions(), k);  // self excluded, -1 fill
   auto is_neighbor = [&](Index a, Index b) {
     for (int j = 0; j < k; ++j)
       if (knn[size_t(a) * size_t(k) + size_t(j)] == b) return true;
     return false;
   };
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
   for (Index t = 0; t < n; ++t)
     for (int j = 0; j < k; ++j) {
       const Index u = knn[size_t(t) * size_t(k) + size_t(j)];
       if (u < 0 || (u < t && is_neighbor(u, t))) continue;  // none, or listed from the other end
       if (target.normals().col(t).dot(target.normals().col(u)) < 0.5) continue;
-      problem.edges.push_back({std::int32_t(t), std::int32_t(u)});
+      edges.push_back({std::int32_t(t), std::int32_t(u)});
     }
-  std::vector<Eigen::Vector3d> mid(problem.edges.size()), normal(problem.edges.size());
-  for (size_t e = 0; e < problem.edges.size(); ++e) {
-    const auto [a, b] = problem.edges[e];
-    mid[e] = 0.5 * (target.positions().col(a) + target.positions().col(b));
-    normal[e] = (target.normals().col(a) + target.normals().col(b)).normalized();
-  }
-  problem.pairwise = [&](Index e, int a, int b) {
-    if (a == b) return 0.0;
-    if (a == L || b == L) return o.pairwise_weight * (o.pairwise_cap + o.mu);
-    const Similarity &qa = transforms[size_t(a)].transform, &qb = transforms[size_t(b)].transform;
-    const double data = (qa.apply(mid[size_t(e)]) - qb.apply(mid[size_t(e)])).squaredNorm() / sp2 +
-                        (1 - qa.apply_normal(normal[size_t(e)]).dot(qb.apply_normal(normal[size_t(e)]))) / sn2;
-    return o.pairwise_weight * (std::min(o.pairwise_cap, data) + o.mu);
-  };
-  // Label costs (eq. 9 with the gimbal-safe residual rotation).
-  problem.label_cost.assign(size_t(L + 1), 0.0);
-  for (int l = 0; l < L; ++l) {
-    const Similarity& q = transforms[size_t(l)].transform;
-    problem.label_cost[size_t(l)] =
-        o.label_cost_per_sample * double(n) *
-        (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
-         o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
-  }
-  result.label_costs.assign(problem.label_cost.begin(), problem.label_cost.end() - 1);
+  return edges;
+}
 
+// Eq. 7 as corrected in the header: V(a, b) on edge e, evaluated at the edge's midpoint and mean normal.
+class Eq7Pairwise {
+ public:
+  Eq7Pairwise(const PointSet& target, const LabelingProblem& problem, const std::vector<SupportedTransform>& transforms,
+              DataScales scales, const LabelOptions& o)
+      : transforms_(transforms), scales_(scales), o_(o), self_(int(transforms.size())) {
+    mid_.resize(problem.edges.size());
+    normal_.resize(problem.edges.size());
+    for (size_t e = 0; e < problem.edges.size(); ++e) {
+      const auto [a, b] = problem.edges[e];
+      mid_[e] = 0.5 * (target.positions().col(a) + target.positions().col(b));
+      normal_[e] = (target.normals().col(a) + target.normals().col(b)).normalized();
+    }
+  }
+
+  double operator()(Index e, int a, int b) const {
+    if (a == b) return 0.0;
+    if (a == self_ || b == self_) return o_.pairwise_weight * (o_.pairwise_cap + o_.mu);
+    const Similarity &qa = transforms_[size_t(a)].transform, &qb = transforms_[size_t(b)].transform;
+    const double data =
+        (qa.apply(mid_[size_t(e)]) - qb.apply(mid_[size_t(e)])).squaredNorm() / scales_.position2 +
+        (1 - qa.apply_normal(normal_[size_t(e)]).dot(qb.apply_normal(normal_[size_t(e)]))) / scales_.normal2;
+    return o_.pairwise_weight * (std::min(o_.pairwise_cap, data) + o_.mu);
+  }
+
+ private:
+  const std::vector<SupportedTransform>& transforms_;
+  DataScales scales_;
+  const LabelOptions& o_;
+  int self_;
+  std::vector<Eigen::Vector3d> mid_, normal_;
+};
+
+// Eq. 9 with the gimbal-safe residual rotation, the scale prior and the upright prior; the self label costs nothing.
+std::vector<double> eq9_label_costs(const std::vector<SupportedTransform>& transforms, Index n, const LabelOptions& o) {
+  std::vector<double> cost(transforms.size() + 1, 0.0);
+  for (size_t l = 0; l < transforms.size(); ++l) {
+    const Similarity& q = transforms[l].transform;
+    cost[l] = o.label_cost_per_sample * double(n) *
+              (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
+               o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
+  }
+  return cost;
+}
+
+// Clean-up on the ring: a sample whose label disagrees with more than cleanup_majority of its ring takes the ring's
+// majority label. Buffers per chunk of samples, not per sample. Returns how many samples moved.
+Index cleanup_on_ring(const PointSet& target, const KdTree& target_tree, int labels, double radius, double majority,
+                      std::vector<int>& labeling) {
+  const Index n = target.size();
+  std::vector<int> cleaned = labeling;
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, 256), [&](const tbb::blocked_range<Index>& range) {
+    std::vector<Neighbor> ring;
+    std::vector<Index> votes(size_t(labels), 0);
+    for (Index t = range.begin(); t != range.end(); ++t) {
+      target_tree.radius(target.positions().col(t), radius, ring);
+      const int own = labeling[size_t(t)];
+      Index others = 0, total = 0;
+      for (const Neighbor& nb : ring) {
+        if (nb.index == t) continue;
+        const int l = labeling[size_t(nb.index)];
+        ++total;
+        ++votes[size_t(l)];
+        others += l != own;
+      }
+      if (total > 0 && double(others) > majority * double(total)) {
+        int best = 0;  // the ring's majority; ties go to the lower label
+        for (int l = 1; l < labels; ++l)
+          if (votes[size_t(l)] > votes[size_t(best)]) best = l;
+        cleaned[size_t(t)] = best;
+      }
+      for (const Neighbor& nb : ring) votes[size_t(labeling[size_t(nb.index)])] = 0;
+    }
+  });
+  Index moved = 0;
+  for (Index t = 0; t < n; ++t) moved += cleaned[size_t(t)] != labeling[size_t(t)];
+  labeling.swap(cleaned);
+  return moved;
+}
+
+}  // namespace
+
+LabelResult label_target(const PointSet& source, const PointSet& target,
+                         const std::vector<SupportedTransform>& transforms, double spacing, const LabelOptions& o) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
+  const Index n = target.size();
+  const int L = int(transforms.size());
+  KdTree source_tree, target_tree;
+  source_tree.build(source.positions());
+  target_tree.build(target.positions());
+  const DataScales scales{2 * std::pow(o.sigma_p * spacing, 2), o.sigma_n * o.sigma_n};
+
+  LabelingProblem problem;
+  problem.labels = L + 1;
+  problem.sites = n;
+  list_feasible_labels(feasible_sites(target, target_tree, transforms, o.dilation * spacing), n, problem);
+  fill_unary_costs(source, source_tree, target, transforms, spacing, scales, o, problem);
+  problem.edges = mrf_edges(target, target_tree, o.mrf_k);
+  const Eq7Pairwise pairwise(target, problem, transforms, scales, o);
+  problem.pairwise = [&pairwise](Index e, int a, int b) { return pairwise(e, a, b); };
+  problem.label_cost = eq9_label_costs(transforms, n, o);
+
+  LabelResult result;
+  result.self_label = L;
+  result.label_costs.assign(problem.label_cost.begin(), problem.label_cost.end() - 1);
   const ExpansionResult r = alpha_expansion(problem, std::vector<int>(size_t(n), L), {.max_cycles = o.max_cycles});
   result.energy_before = r.energy_before;
   result.energy_after = r.energy_after;
   result.truncated_terms = r.truncated_terms;
   result.cycles = r.cycles;
   result.labels = r.labeling;
-
-  // Clean-up on the 5-alpha ring. Buffers per chunk of samples, not per sample.
-  if (o.cleanup_ring > 0) {
-    std::vector<int> cleaned = result.labels;
-    tbb::parallel_for(tbb::blocked_range<Index>(0, n, 256), [&](const tbb::blocked_range<Index>& range) {
-      std::vector<Neighbor> ring;
-      std::vector<Index> votes(size_t(L) + 1, 0);
-      for (Index t = range.begin(); t != range.end(); ++t) {
-        target_tree.radius(target.positions().col(t), o.cleanup_ring * spacing, ring);
-        const int own = result.labels[size_t(t)];
-        Index others = 0, total = 0;
-        for (const Neighbor& nb : ring) {
-          if (nb.index == t) continue;
-          const int l = result.labels[size_t(nb.index)];
-          ++total;
-          ++votes[size_t(l)];
-          others += l != own;
-        }
-        if (total > 0 && double(others) > o.cleanup_majority * double(total)) {
-          int best = 0;  // the ring's majority; ties go to the lower label
-          for (int l = 1; l <= L; ++l)
-            if (votes[size_t(l)] > votes[size_t(best)]) best = l;
-          cleaned[size_t(t)] = best;
-        }
-        for (const Neighbor& nb : ring) votes[size_t(result.labels[size_t(nb.index)])] = 0;
-      }
-    });
-    for (Index t = 0; t < n; ++t) result.cleaned += cleaned[size_t(t)] != result.labels[size_t(t)];
-    result.labels.swap(cleaned);
-  }
+  if (o.cleanup_ring > 0)
+    result.cleaned =
+        cleanup_on_ring(target, target_tree, L + 1, o.cleanup_ring * spacing, o.cleanup_majority, result.labels);
   return result;
 }
 

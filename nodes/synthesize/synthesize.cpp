@@ -73,7 +73,170 @@ Similarity motion(const Eigen::Matrix<double, 6, 1>& v, double s, const Eigen::V
   return Similarity{R, centre - R * centre + tau, 1.0};
 }
 
-// Refines each used transform's inverse (source -> target) against the exemplar images already placed.
+// The exemplar images placed so far by the refinement (the reference the next image is fitted to), with a kd-tree.
+class PlacedImages {
+ public:
+  PlacedImages(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, double limit2)
+      : ep_(ep), en_(en), limit2_(limit2) {}
+
+  // The exemplar carried by q.
+  void image(const Similarity& q, Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& n) const {
+    p.resize(3, ep_.cols());
+    n.resize(3, ep_.cols());
+    for (Index e = 0; e < ep_.cols(); ++e) {
+      p.col(e) = q.apply(ep_.col(e));
+      n.col(e) = q.apply_normal(en_.col(e));
+    }
+  }
+
+  void place(const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& n) {
+    Eigen::Matrix3Xd np(3, ref_p_.cols() + p.cols()), nn(3, ref_n_.cols() + n.cols());
+    np << ref_p_, p;
+    nn << ref_n_, n;
+    ref_p_ = std::move(np);
+    ref_n_ = std::move(nn);
+  }
+
+  void place(const Similarity& q) {
+    Eigen::Matrix3Xd p, n;
+    image(q, p, n);
+    place(p, n);
+  }
+
+  void index() { tree_.build(ref_p_); }
+
+  // Exemplar samples whose image under q lies within the limit of a placed point with a normal within 60 degrees.
+  Index overlap(const Similarity& q) const {
+    std::vector<std::uint8_t> near(size_t(ep_.cols()), 0);
+    tbb::parallel_for(Index(0), ep_.cols(), [&](Index e) {
+      std::int32_t i;
+      double d2;
+      tree_.knn(q.apply(ep_.col(e)), 1, &i, &d2);
+      near[size_t(e)] = d2 <= limit2_ && q.apply_normal(en_.col(e)).dot(ref_n_.col(i)) > 0.5;
+    });
+    return Index(std::count(near.begin(), near.end(), 1));
+  }
+
+  // Point-to-plane misfit of the image under q (every second sample), over the overlap: (sum of squares, overlap).
+  std::pair<double, Index> misfit(const Similarity& q) const {
+    double sum = 0;
+    Index overlap = 0;
+    for (Index e = 0; e < ep_.cols(); e += 2) {
+      std::int32_t j;
+      double d2;
+      const Eigen::Vector3d x = q.apply(ep_.col(e));
+      tree_.knn(x, 1, &j, &d2);
+      if (d2 <= limit2_) {  // point-to-plane: tangential sampling offsets do not count, misplaced detail does
+        sum += std::pow((x - ref_p_.col(j)).dot(ref_n_.col(j)), 2);
+        ++overlap;
+      }
+    }
+    return {sum, overlap};
+  }
+
+  // One rigid point-to-plane ICP step of the image under c o q onto the placed images, on the overlap only; false when
+  // fewer than 30 samples overlap.
+  bool icp_step(const Similarity& q, Similarity& c) const {
+    Eigen::Matrix3Xd p, n;
+    image(c.compose(q), p, n);
+    std::vector<std::int32_t> match(size_t(p.cols()), -1);
+    tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
+      std::int32_t i;
+      double d2;
+      tree_.knn(p.col(e), 1, &i, &d2);
+      if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
+    });
+    std::vector<Index> pairs;
+    for (Index e = 0; e < p.cols(); ++e)
+      if (match[size_t(e)] >= 0) pairs.push_back(e);
+    if (pairs.size() < 30) return false;
+    Eigen::Matrix3Xd a(3, Index(pairs.size())), b(3, Index(pairs.size())), bn(3, Index(pairs.size()));
+    for (size_t j = 0; j < pairs.size(); ++j) {
+      a.col(Index(j)) = p.col(pairs[j]);
+      b.col(Index(j)) = ref_p_.col(match[size_t(pairs[j])]);
+      bn.col(Index(j)) = ref_n_.col(match[size_t(pairs[j])]);
+    }
+    c = point_to_plane_step(c, a, b, bn, false);
+    return true;
+  }
+
+  Index exemplar_size() const { return ep_.cols(); }
+
+ private:
+  const Eigen::Matrix3Xd &ep_, &en_;
+  double limit2_;
+  Eigen::Matrix3Xd ref_p_ = Eigen::Matrix3Xd(3, 0), ref_n_ = Eigen::Matrix3Xd(3, 0);
+  KdTree tree_;
+};
+
+// The step along slippable motion v (in units of `step`, tried 0, 1, -1, 2, -2, ... up to +-steps) that best fits the
+// image of c o q to the placed images: mean squared point-to-plane distance over the overlap, which must stay at least
+// half of the start's, and a move must clearly beat the start (motions the detail does not fix, flutes along their
+// own length, stay 0).
+int best_phase_step(const PlacedImages& placed, const Eigen::Matrix<double, 6, 1>& v, double step, int steps,
+                    const Eigen::Vector3d& centre, double radius, const Similarity& c, const Similarity& q) {
+  auto offset = [](int k) { return k == 0 ? 0 : (k % 2 ? (k + 1) / 2 : -(k / 2)); };  // 0, 1, -1, 2, -2, ...
+  // The trials are independent: scored in parallel (each sum in its own fixed order), chosen in order below.
+  std::vector<std::pair<double, Index>> trials(static_cast<size_t>(2 * steps + 1));
+  tbb::parallel_for(0, 2 * steps + 1, [&](int k) {
+    trials[size_t(k)] = placed.misfit(motion(v, offset(k) * step, centre, radius).compose(c).compose(q));
+  });
+  double best_score = 0, start_score = 0;
+  Index start_overlap = 0;
+  int best_step = 0;
+  for (int k = 0; k <= 2 * steps; ++k) {
+    const auto [sum, overlap] = trials[size_t(k)];
+    if (k == 0) {
+      start_overlap = overlap;
+      start_score = overlap > 0 ? sum / double(overlap) : 0.0;
+    }
+    if (overlap < 15 || 2 * overlap < start_overlap) continue;
+    const double score = sum / double(overlap);
+    if (k == 0 || score < std::min(best_score, 0.85 * start_score)) {
+      best_score = score;
+      best_step = offset(k);
+    }
+  }
+  return best_step;
+}
+
+// Where the template slides on itself, the template cannot tell the phase of the exemplar's detail: searches each
+// slippable motion of region `label` over +-search_distance alpha for the best fit of the image's detail to the
+// placed images. Returns the correction c (applied after q).
+Similarity phase_correction(const PlacedImages& placed, const Similarity& q, const PointSet& target,
+                            const std::vector<int>& labels, int label, double spacing, const SynthesisOptions& o) {
+  Similarity c;
+  Eigen::Vector3d centre;
+  double radius = 1;
+  for (const auto& v : slippable_motions(target, labels, label, centre, radius)) {
+    const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
+    if (!(rate > 0)) continue;
+    const double step = 0.5 * spacing / rate;
+    const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
+    c = motion(v, best_phase_step(placed, v, step, steps, centre, radius, c, q) * step, centre, radius).compose(c);
+  }
+  return c;
+}
+
+// The unplaced transform whose image overlaps the placed images most, with that overlap.
+std::pair<size_t, Index> most_overlapping(const PlacedImages& placed, const std::vector<Similarity>& inv,
+                                          const std::vector<Index>& region_size, const std::vector<char>& is_placed) {
+  size_t best = inv.size();
+  Index best_overlap = -1;
+  for (size_t l = 0; l < inv.size(); ++l) {
+    if (is_placed[l] || region_size[l] == 0) continue;
+    const Index overlap = placed.overlap(inv[l]);
+    if (overlap > best_overlap) {
+      best_overlap = overlap;
+      best = l;
+    }
+  }
+  return {best, best_overlap};
+}
+
+// Refines each used transform's inverse (source -> target) against the exemplar images already placed: the anchor
+// (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
+// in phase along the template's slippable motions and by rigid point-to-plane ICP on the overlap.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             bool anchor_exemplar, double spacing, const SynthesisOptions& o, const PointSet& target,
             const std::vector<int>& labels, std::vector<Similarity>& inv, Synthesis& out) {
@@ -81,139 +244,31 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
   if (o.refine_iterations <= 0) return;
-  std::vector<char> placed(L, 0);
-  Eigen::Matrix3Xd ref_p(3, 0), ref_n(3, 0);
-  const auto image = [&](const Similarity& q, Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& n) {
-    p.resize(3, ep.cols());
-    n.resize(3, ep.cols());
-    for (Index e = 0; e < ep.cols(); ++e) {
-      p.col(e) = q.apply(ep.col(e));
-      n.col(e) = q.apply_normal(en.col(e));
-    }
-  };
-  const auto place = [&](const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& n) {
-    Eigen::Matrix3Xd np(3, ref_p.cols() + p.cols()), nn(3, ref_n.cols() + n.cols());
-    np << ref_p, p;
-    nn << ref_n, n;
-    ref_p = std::move(np);
-    ref_n = std::move(nn);
-  };
+  std::vector<char> is_placed(L, 0);
+  PlacedImages placed(ep, en, std::pow(o.refine_distance * spacing, 2));
   size_t remaining = 0;
   for (size_t l = 0; l < L; ++l) remaining += region_size[l] > 0;
   if (anchor_exemplar) {
-    place(ep, en);
+    placed.place(ep, en);
   } else if (remaining > 0) {
     const size_t biggest = size_t(std::max_element(region_size.begin(), region_size.end()) - region_size.begin());
-    Eigen::Matrix3Xd p, n;
-    image(inv[biggest], p, n);
-    place(p, n);
-    placed[biggest] = 1;
+    placed.place(inv[biggest]);
+    is_placed[biggest] = 1;
     --remaining;
   }
-  const double limit2 = std::pow(o.refine_distance * spacing, 2);
-  KdTree tree;
   for (; remaining > 0; --remaining) {
-    tree.build(ref_p);
-    // The unplaced transform whose image overlaps the placed images most.
-    size_t best = L;
-    Index best_overlap = -1;
-    for (size_t l = 0; l < L; ++l) {
-      if (placed[l] || region_size[l] == 0) continue;
-      std::vector<std::uint8_t> near(size_t(ep.cols()), 0);
-      tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
-        std::int32_t i;
-        double d2;
-        tree.knn(inv[l].apply(ep.col(e)), 1, &i, &d2);
-        near[size_t(e)] = d2 <= limit2 && inv[l].apply_normal(en.col(e)).dot(ref_n.col(i)) > 0.5;
-      });
-      const auto overlap = Index(std::count(near.begin(), near.end(), 1));
-      if (overlap > best_overlap) {
-        best_overlap = overlap;
-        best = l;
-      }
-    }
-    placed[best] = 1;
-    Eigen::Matrix3Xd p, n;
+    placed.index();
+    const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
+    is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      // Where the template slides on itself, the template cannot tell the phase of the exemplar's detail: search
-      // each slippable motion over +-search_distance alpha for the best fit of the image's detail to the placed
-      // images (mean squared distance over the overlap, which must stay at least half of the start's).
-      Similarity c;
-      Eigen::Vector3d centre;
-      double radius = 1;
-      for (const auto& v : slippable_motions(target, labels, int(best), centre, radius)) {
-        const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
-        if (!(rate > 0)) continue;
-        const double step = 0.5 * spacing / rate;
-        const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
-        double best_score = 0;
-        Index start_overlap = 0;
-        double start_score = 0;
-        int best_step = 0;
-        auto offset = [](int k) { return k == 0 ? 0 : (k % 2 ? (k + 1) / 2 : -(k / 2)); };  // 0, 1, -1, 2, -2, ...
-        // The trials are independent: scored in parallel (each sum in its own fixed order), chosen in order below.
-        std::vector<std::pair<double, Index>> trials(static_cast<size_t>(2 * steps + 1));
-        tbb::parallel_for(0, 2 * steps + 1, [&](int k) {
-          const Similarity trial = motion(v, offset(k) * step, centre, radius).compose(c).compose(inv[best]);
-          double sum = 0;
-          Index overlap = 0;
-          for (Index e = 0; e < ep.cols(); e += 2) {
-            std::int32_t j;
-            double d2;
-            const Eigen::Vector3d x = trial.apply(ep.col(e));
-            tree.knn(x, 1, &j, &d2);
-            if (d2 <= limit2) {  // point-to-plane: tangential sampling offsets do not count, misplaced detail does
-              sum += std::pow((x - ref_p.col(j)).dot(ref_n.col(j)), 2);
-              ++overlap;
-            }
-          }
-          trials[size_t(k)] = {sum, overlap};
-        });
-        for (int k = 0; k <= 2 * steps; ++k) {
-          const int i = offset(k);
-          const auto [sum, overlap] = trials[size_t(k)];
-          if (k == 0) {
-            start_overlap = overlap;
-            start_score = overlap > 0 ? sum / double(overlap) : 0.0;
-          }
-          if (overlap < 15 || 2 * overlap < start_overlap) continue;
-          const double score = sum / double(overlap);
-          // A move must clearly beat the start: motions the detail does not fix (flutes along their own length) stay 0.
-          if (k == 0 || score < std::min(best_score, 0.85 * start_score)) {
-            best_score = score;
-            best_step = i;
-          }
-        }
-        c = motion(v, best_step * step, centre, radius).compose(c);
-      }
-      // Then rigid point-to-plane ICP of the image onto the placed images, on the overlap only.
-      for (int it = 0; it < o.refine_iterations; ++it) {
-        image(c.compose(inv[best]), p, n);
-        std::vector<std::int32_t> match(size_t(p.cols()), -1);
-        tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
-          std::int32_t i;
-          double d2;
-          tree.knn(p.col(e), 1, &i, &d2);
-          if (d2 <= limit2 && n.col(e).dot(ref_n.col(i)) > 0.5) match[size_t(e)] = i;
-        });
-        std::vector<Index> pairs;
-        for (Index e = 0; e < p.cols(); ++e)
-          if (match[size_t(e)] >= 0) pairs.push_back(e);
-        if (pairs.size() < 30) break;
-        Eigen::Matrix3Xd a(3, Index(pairs.size())), b(3, Index(pairs.size())), bn(3, Index(pairs.size()));
-        for (size_t j = 0; j < pairs.size(); ++j) {
-          a.col(Index(j)) = p.col(pairs[j]);
-          b.col(Index(j)) = ref_p.col(match[size_t(pairs[j])]);
-          bn.col(Index(j)) = ref_n.col(match[size_t(pairs[j])]);
-        }
-        c = point_to_plane_step(c, a, b, bn, false);
-      }
+      Similarity c = phase_correction(placed, inv[best], target, labels, int(best), spacing, o);
+      for (int it = 0; it < o.refine_iterations; ++it)
+        if (!placed.icp_step(inv[best], c)) break;
       inv[best] = c.compose(inv[best]);
       out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
       out.refinement_shift[best] = c.translation.norm();
     }
-    image(inv[best], p, n);
-    place(p, n);
+    placed.place(inv[best]);
   }
 }
 
