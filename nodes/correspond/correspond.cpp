@@ -402,8 +402,6 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     throw InputError("the source (template) has " + std::to_string(source.size()) + " samples; at least " +
                      std::to_string(o.min_samples) + " are needed");
   const double ds = bounding_box(source.positions()).diagonal();
-  check_shared_scale("the exemplar (scan)", bounding_box(exemplar.positions()).diagonal(), "the source (template)", ds,
-                     o.max_scale_ratio);
   KdTree tree;
   tree.build(source.positions());
 
@@ -485,8 +483,9 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   return r;
 }
 
-void check_shared_scale(const std::string& name_a, double diagonal_a, const std::string& name_b, double diagonal_b,
+void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
                         double max_ratio) {
+  const double diagonal_a = bounding_box(a.positions()).diagonal(), diagonal_b = bounding_box(b.positions()).diagonal();
   if (diagonal_a <= max_ratio * diagonal_b && diagonal_b <= max_ratio * diagonal_a) return;
   throw InputError("inputs must share a scale: the bounding-box diagonal of " + name_a + " is " +
                    std::to_string(diagonal_a) + ", of " + name_b + " " + std::to_string(diagonal_b) + " (more than " +
@@ -526,12 +525,6 @@ CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deform
     throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +
                      " template samples: too little of the template to learn from");
   return r;
-}
-
-void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
-                        double max_ratio) {
-  check_shared_scale(name_a, bounding_box(a.positions()).diagonal(), name_b, bounding_box(b.positions()).diagonal(),
-                     max_ratio);
 }
 
 }  // namespace scanfill

@@ -11,8 +11,9 @@
 // outer iteration. User landmarks (exemplar point -> source point) enter as heavily weighted data terms.
 //
 // Every source sample ends up matched: one with no exemplar sample of its own takes that of its nearest matched
-// neighbour. Throws InputError when the inputs cannot be registered: too few samples, very different scales, or no
-// overlap after rigid registration.
+// neighbour. Throws InputError when the inputs cannot be registered: too few samples, or no
+// overlap before or after rigid registration (inputs far apart, or at very different scales: check_shared_scale
+// below is the pipeline's scale check, made once before sampling).
 #pragma once
 
 #include <Eigen/Core>
@@ -68,10 +69,8 @@ struct CorrespondResult {
 };
 
 // Throws InputError unless two inputs' bounding-box diagonals lie within max_ratio of each other (paper section 3:
-// inputs share a scale). name_a and name_b say which inputs they are ("the exemplar (scan)").
-void check_shared_scale(const std::string& name_a, double diagonal_a, const std::string& name_b, double diagonal_b,
-                        double max_ratio);
-// The same for two inputs, by their points' bounding boxes (the engine's check before sampling at a shared alpha).
+// inputs share a scale). name_a and name_b say which inputs they are ("the exemplar (scan)"). The one scale check:
+// the pipeline calls it on every input before sampling them at a shared alpha; correspond() does not repeat it.
 void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
                         double max_ratio);
 

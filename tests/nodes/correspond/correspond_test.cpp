@@ -177,10 +177,16 @@ TEST(Correspond, RefusesInputsThatCannotBeRegistered) {
   const PointSet away =
       featured(transformed(blob, Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(5, 0, 0), 1}), s.spacing);
   EXPECT_NE(message(away).find("do not overlap"), std::string::npos) << message(away);
-  // Millimetres against metres.
+  // Millimetres against metres: the scale check the pipeline makes before sampling, and correspond's own overlap test.
   const PointSet huge = featured(
       transformed(blob, Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), 1000}), s.spacing * 1000);
-  EXPECT_NE(message(huge).find("share a scale"), std::string::npos) << message(huge);
+  EXPECT_NE(message(huge).find("at the same scale"), std::string::npos) << message(huge);
+  try {
+    check_shared_scale("the exemplar (scan)", huge, "the source (template)", source, 10.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("share a scale"), std::string::npos) << e.what();
+  }
   // Ten points.
   PointSet ten(Eigen::Matrix3Xd(source.positions().leftCols(10)));
   ten.set_normals(source.normals().leftCols(10));
