@@ -1,6 +1,7 @@
 #include "nodes/label/label.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -109,9 +110,9 @@ void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const P
   });
 }
 
-// MRF edges: mrf_k nearest neighbours with normals within 60 degrees, each pair once.
-std::vector<std::pair<std::int32_t, std::int32_t>> mrf_edges(const PointSet& target, const KdTree& target_tree,
-                                                             int mrf_k) {
+// MRF edges: mrf_k nearest neighbours whose normals' dot product exceeds min_normal_dot, each pair once.
+std::vector<std::pair<std::int32_t, std::int32_t>> knn_mrf_edges(const PointSet& target, const KdTree& target_tree,
+                                                                 int mrf_k, double min_normal_dot) {
   const Index n = target.size();
   const int k = std::min<int>(mrf_k, int(n) - 1);
   const std::vector<std::int32_t> knn = knn_graph(target_tree, target.positions(), k);  // self excluded, -1 fill
@@ -125,9 +126,31 @@ std::vector<std::pair<std::int32_t, std::int32_t>> mrf_edges(const PointSet& tar
     for (int j = 0; j < k; ++j) {
       const Index u = knn[size_t(t) * size_t(k) + size_t(j)];
       if (u < 0 || (u < t && is_neighbor(u, t))) continue;  // none, or listed from the other end
-      if (target.normals().col(t).dot(target.normals().col(u)) < 0.5) continue;
+      if (target.normals().col(t).dot(target.normals().col(u)) < min_normal_dot) continue;
       edges.push_back({std::int32_t(t), std::int32_t(u)});
     }
+  return edges;
+}
+
+// MRF edges of the paper: every pair within `radius` (a Euclidean ball for its geodesic ring) whose normals' dot
+// product is at least min_normal_dot, each pair once. Found per thread, then sorted: the same list on any number of
+// threads.
+std::vector<std::pair<std::int32_t, std::int32_t>> ring_mrf_edges(const PointSet& target, const KdTree& target_tree,
+                                                                  double radius, double min_normal_dot) {
+  tbb::enumerable_thread_specific<std::vector<std::pair<std::int32_t, std::int32_t>>> found;
+  tbb::parallel_for(tbb::blocked_range<Index>(0, target.size(), 256), [&](const tbb::blocked_range<Index>& range) {
+    auto& edges = found.local();
+    std::vector<Neighbor> ring;
+    for (Index t = range.begin(); t != range.end(); ++t) {
+      target_tree.radius(target.positions().col(t), radius, ring);
+      for (const Neighbor& nb : ring)
+        if (nb.index > t && target.normals().col(t).dot(target.normals().col(nb.index)) >= min_normal_dot)
+          edges.push_back({std::int32_t(t), std::int32_t(nb.index)});
+    }
+  });
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
+  for (const auto& part : found) edges.insert(edges.end(), part.begin(), part.end());
+  std::sort(edges.begin(), edges.end());
   return edges;
 }
 
@@ -164,15 +187,41 @@ class Eq7Pairwise {
   std::vector<Eigen::Vector3d> mid_, normal_;
 };
 
-// Eq. 9 with the gimbal-safe residual rotation, the scale prior and the upright prior; the self label costs nothing.
-std::vector<double> eq9_label_costs(const std::vector<SupportedTransform>& transforms, Index n, const LabelOptions& o) {
+// Eq. 9 with the gimbal-safe residual rotation, the scale prior and the upright prior (ours).
+double our_label_cost(const Similarity& q, Index n, const LabelOptions& o) {
+  return o.label_cost_per_sample * double(n) *
+         (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
+          o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
+}
+
+// Euler angles (a, b, c) of R = R_x(a) R_y(b) R_z(c). At gimbal lock (cos b = 0) only a + c or a - c is defined:
+// a = 0 there, so that an axis rotation always gives multiples of 90 degrees (Eigen's eulerAngles reads the angle
+// from two entries that are rounding noise there).
+Eigen::Vector3d xyz_euler_angles(const Eigen::Matrix3d& R) {
+  const double b = std::asin(std::clamp(R(0, 2), -1.0, 1.0));
+  if (std::abs(std::cos(b)) < 1e-9) return {0.0, b, std::atan2(R(1, 0), R(1, 1))};
+  return {std::atan2(-R(1, 2), R(2, 2)), b, std::atan2(-R(0, 1), R(0, 0))};
+}
+
+// Eq. 8 and 9 as printed: -N log P(E_l), P = 1 for the identity and 0.5 prod_a exp(cos 4 R_a) / e exp(-(s - 1)^2)
+// otherwise, R_a the Euler angles of R = R_x R_y R_z.
+double paper_label_cost(const Similarity& q, Index n, double spacing) {
+  const bool identity =
+      rotation_angle(q.rotation) < 2 * M_PI / 180 && std::abs(q.scale - 1) < 0.01 && q.translation.norm() < spacing;
+  if (identity) return 0.0;
+  const Eigen::Vector3d euler = xyz_euler_angles(q.rotation);
+  double minus_log_p = std::log(2.0) + (q.scale - 1) * (q.scale - 1);
+  for (int a = 0; a < 3; ++a) minus_log_p += 1 - std::cos(4 * euler(a));
+  return double(n) * minus_log_p;
+}
+
+// h_l per label; the self label costs nothing.
+std::vector<double> label_costs(const std::vector<SupportedTransform>& transforms, Index n, double spacing,
+                                const LabelOptions& o) {
   std::vector<double> cost(transforms.size() + 1, 0.0);
-  for (size_t l = 0; l < transforms.size(); ++l) {
-    const Similarity& q = transforms[l].transform;
-    cost[l] = o.label_cost_per_sample * double(n) *
-              (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
-               o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
-  }
+  for (size_t l = 0; l < transforms.size(); ++l)
+    cost[l] = o.paper_label_costs ? paper_label_cost(transforms[l].transform, n, spacing)
+                                  : our_label_cost(transforms[l].transform, n, o);
   return cost;
 }
 
@@ -228,10 +277,11 @@ LabelResult label_target(const PointSet& source, const PointSet& target,
   problem.sites = n;
   list_feasible_labels(feasible_sites(target, target_tree, transforms, o.dilation * spacing), n, problem);
   fill_unary_costs(source, source_tree, target, transforms, spacing, scales, o, problem);
-  problem.edges = mrf_edges(target, target_tree, o.mrf_k);
+  problem.edges = o.mrf_radius > 0 ? ring_mrf_edges(target, target_tree, o.mrf_radius * spacing, o.mrf_min_normal_dot)
+                                   : knn_mrf_edges(target, target_tree, o.mrf_k, o.mrf_min_normal_dot);
   const Eq7Pairwise pairwise(target, problem, transforms, scales, o);
   problem.pairwise = [&pairwise](Index e, int a, int b) { return pairwise(e, a, b); };
-  problem.label_cost = eq9_label_costs(transforms, n, o);
+  problem.label_cost = label_costs(transforms, n, spacing, o);
 
   LabelResult result;
   result.self_label = L;

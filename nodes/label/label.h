@@ -16,9 +16,13 @@
 //    between R z and z. The paper's eq. 9 cannot tell a quarter turn about the vertical from a half turn that turns
 //    the object upside down (both are kappa pi / 2 rotations), and on a symmetric template the data cannot either;
 //    objects stand upright (+z up, as the virtual scanner assumes), so turning one over costs more.
+//    paper_label_costs restores eq. 8 and 9 as printed: h = 0 for the identity (rotation under 2 degrees, scale within
+//    1%, translation under alpha) and h = N (ln 2 + sum_a (1 - cos 4 R_a) + (s - 1)^2) otherwise, R_a the Euler angles
+//    (R = R_x R_y R_z), so N ln 2 for an axis rotation at unit scale.
 //  - the self-reference label has the constant unary self_cost.
-//  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees; the 5-alpha ring is
-//    used only by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
+//  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees (the paper's: every
+//    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
+//    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
 //    ring to the ring's majority label.
 // Labels are sparse: label l is feasible only within `dilation` alpha of its support.
 #pragma once
@@ -47,6 +51,11 @@ struct LabelOptions {
                                         // before a flip that turns the object over; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
+  double mrf_radius = 0.0;              // if > 0: MRF neighbours are all samples within this many alpha (the paper's
+                                        // 5-alpha ring, Euclidean for geodesic) instead of the mrf_k nearest; >= 0
+  double mrf_min_normal_dot = 0.5;      // MRF neighbours' normals must have a dot product above this (0.5: within 60
+                                        // degrees; the paper's 90 degrees is 0); [-1, 1)
+  bool paper_label_costs = false;       // eq. 8 and 9 as printed instead of ours (see above)
   double dilation = 2.0;                // a label is feasible within this many alpha of its support; >= 0
   double cleanup_ring = 5.0;            // clean-up ring radius in alpha; >= 0 (0 = no clean-up)
   double cleanup_majority = 0.9;        // fraction of the ring that must disagree; (0.5, 1]

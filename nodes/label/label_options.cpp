@@ -28,6 +28,15 @@ OptionTable option_table(LabelOptions& l) {
        {"scale_prior", &l.scale_prior, "eq. 9 weight of |log2 scale|; >= 0", non_negative(&l.scale_prior)},
        {"mrf_k", &l.mrf_k, "MRF neighbours per sample; [1, 32]",
         range(&l.mrf_k, 1, 32, false, "an integer in [1, 32]")},
+       {"mrf_radius", &l.mrf_radius,
+        "if > 0, MRF neighbours are every sample within this many alpha (the paper: 5) instead of the mrf_k nearest; "
+        ">= 0",
+        non_negative(&l.mrf_radius)},
+       {"mrf_min_normal_dot", &l.mrf_min_normal_dot,
+        "MRF neighbours' normals have a dot product above this (0.5: within 60 degrees; the paper: 0); [-1, 1)",
+        range(&l.mrf_min_normal_dot, -1.0, 1.0 - 1e-12, false, "a number in [-1, 1)")},
+       {"paper_label_costs", &l.paper_label_costs,
+        "label costs as the paper's eq. 8 and 9 (identity 0, N ln 2 for an axis rotation) instead of ours", any()},
        {"dilation", &l.dilation, "a label is feasible within this many alpha of its support; >= 0",
         non_negative(&l.dilation)},
        {"cleanup_ring", &l.cleanup_ring, "clean-up ring radius in alpha; 0 = no clean-up; >= 0",
@@ -36,6 +45,15 @@ OptionTable option_table(LabelOptions& l) {
         range(&l.cleanup_majority, 0.5, 1.0, true, "a number in (0.5, 1]")},
        {"max_cycles", &l.max_cycles, "alpha-expansion sweeps; >= 1",
         range(&l.max_cycles, 1, 10000, false, "an integer >= 1")}}};
+}
+
+void use_paper_parameters(LabelOptions& l) {
+  l.sigma_n = 0.1 * M_PI / 2;
+  l.mu = 0.5;
+  l.pairwise_cap = 0.5;
+  l.paper_label_costs = true;
+  l.mrf_radius = 5.0;
+  l.mrf_min_normal_dot = 0.0;
 }
 
 }  // namespace scanfill
