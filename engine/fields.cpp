@@ -38,4 +38,9 @@ std::vector<Section> option_sections(RunConfig& c) {
           std::move(correspond), option_table(c.synthesize), option_table(c.align),    option_table(c.virtual_scan)};
 }
 
+void use_paper_parameters(RunConfig& config) {
+  use_paper_parameters(config.label);
+  use_paper_parameters(config.support);
+}
+
 }  // namespace scanfill

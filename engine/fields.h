@@ -18,6 +18,9 @@ using Section = OptionTable;
 
 std::vector<Section> option_sections(RunConfig& config);
 
+// The paper's parameters (preset: paper) in place of ours, in every section that has them.
+void use_paper_parameters(RunConfig& config);
+
 // String tables of enums for YAML.
 const std::vector<std::pair<std::string, NormalOrientation>>& orientation_names();
 std::string to_string(NormalOrientation o);

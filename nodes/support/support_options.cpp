@@ -27,4 +27,8 @@ OptionTable option_table(SupportOptions& su) {
         range(&su.redundant_overlap, 0.0, 1.0, true, "a number in (0, 1]")}}};
 }
 
+void use_paper_parameters(SupportOptions& su) {
+  su.normal_angle_deg = 90.0;
+}
+
 }  // namespace scanfill

@@ -8,4 +8,7 @@ namespace scanfill {
 
 OptionTable option_table(SupportOptions& su);
 
+// The paper's value (eq. 2): delta_n = 0, normals within 90 degrees.
+void use_paper_parameters(SupportOptions& su);
+
 }  // namespace scanfill
