@@ -259,8 +259,148 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
       continue;
     }
     if (const auto problem = check_input(it->spec)) problems.push_back({"inputs." + role_name(role), *problem});
+    if (!it->fragments.empty() && role == Role::kScan && config.virtual_scan.eye)
+      problems.push_back({"virtual_scan.eye",
+                          "a scan given as fragments is not scanned again: remove virtual_scan.eye "
+                          "or give one input"});
+    for (size_t i = 0; i < it->fragments.size(); ++i)
+      if (const auto problem = check_input(it->fragments[i]))
+        problems.push_back({"inputs." + role_name(role) + "[" + std::to_string(i + 1) + "]", *problem});
   }
   return problems;
+}
+
+namespace {
+
+// mode: one of the modes; false when given but unknown (its inputs then cannot be checked).
+bool read_mode(const YAML::Node& root, RunConfig& config, Problems& problems) {
+  const YAML::Node n = root["mode"];
+  if (!n) {
+    problems.add(root.Mark(), "mode", "missing (expected one of " + join(mode_list()) + ")");
+    return true;
+  }
+  problems.remember("mode", n.Mark());
+  std::string name;
+  const bool scalar = scalar_as(n, name);
+  const auto& modes = mode_names();
+  const auto it = std::find_if(modes.begin(), modes.end(), [&](const auto& m) { return m.first == name; });
+  if (scalar && it != modes.end()) {
+    config.mode = it->second;
+    return true;
+  }
+  problems.add(n.Mark(), "mode", "expected one of " + join(mode_list()) + ", got " + describe(n));
+  return false;
+}
+
+void read_threads_and_output(const YAML::Node& root, RunConfig& config, Problems& problems) {
+  if (const YAML::Node n = root["threads"]) {
+    problems.remember("threads", n.Mark());
+    if (!scalar_as(n, config.threads))
+      problems.add(n.Mark(), "threads", "expected an integer >= 0, got " + describe(n));
+  }
+  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir"}, problems)) {
+    if (const YAML::Node d = n["dir"]) {
+      std::string dir;
+      problems.remember("output.dir", d.Mark());
+      if (scalar_as(d, dir) && !dir.empty())
+        config.output_dir = dir;
+      else
+        problems.add(d.Mark(), "output.dir", "expected a folder path, got " + describe(d));
+    }
+  }
+}
+
+// preset: the parameter set the sections start from (their keys override it).
+void read_preset(const YAML::Node& root, RunConfig& config, Problems& problems) {
+  const YAML::Node n = root["preset"];
+  if (!n) return;
+  problems.remember("preset", n.Mark());
+  std::string name;
+  if (scalar_as(n, name) && (name == "scanfill" || name == "paper")) {
+    config.preset = name;
+    if (name == "paper") use_paper_parameters(config);
+  } else {
+    problems.add(n.Mark(), "preset", "expected scanfill or paper, got " + describe(n));
+  }
+}
+
+// One input's text: a scalar, or (for a role that takes fragments) a list of scalars. Empty when malformed.
+std::vector<std::string> input_texts(const YAML::Node& n, const std::string& key, bool fragments, Problems& problems) {
+  const std::string expected =
+      fragments ? "a file path, procedural:NAME or a list of scan fragments (files)" : "a file path or procedural:NAME";
+  std::vector<std::string> texts;
+  std::string text;
+  if (scalar_as(n, text) && !text.empty()) return {text};
+  if (fragments && n.IsSequence() && n.size() > 0) {
+    for (size_t i = 0; i < n.size(); ++i) {
+      if (!scalar_as(n[i], text) || text.empty()) {
+        problems.add(n[i].Mark(), key + "[" + std::to_string(i) + "]",
+                     "expected a file path or procedural:NAME, got " + describe(n[i]));
+        return {};
+      }
+      texts.push_back(text);
+    }
+    return texts;
+  }
+  problems.add(n.Mark(), key, "expected " + expected + ", got " + describe(n));
+  return {};
+}
+
+void read_inputs(const YAML::Node& root, bool mode_known, const std::filesystem::path& path, RunConfig& config,
+                 Problems& problems) {
+  const YAML::Node n = root["inputs"];
+  if (!n) {
+    problems.remember("inputs", root.Mark());
+    return;
+  }
+  problems.remember("inputs", n.Mark());
+  std::vector<std::string> valid;  // the mode's roles in order; every role when the mode is unknown
+  if (mode_known)
+    for (const Role role : roles_for_mode(config.mode)) valid.push_back(role_name(role));
+  else
+    for (const auto& [name, role] : role_names()) valid.push_back(name);
+  if (!check_map(n, "inputs", valid, problems)) return;
+  for (auto it = n.begin(); it != n.end(); ++it) {
+    if (!it->first.IsScalar()) continue;  // reported by check_map
+    const std::string name = it->first.as<std::string>();
+    const auto role = std::find(valid.begin(), valid.end(), name);
+    if (!mode_known || role == valid.end()) continue;
+    const std::string key = "inputs." + name;
+    problems.remember(key, it->second.Mark());
+    Input input{roles_for_mode(config.mode)[size_t(role - valid.begin())], {}, {}};
+    const std::vector<std::string> texts = input_texts(it->second, key, takes_fragments(input.role), problems);
+    if (texts.empty()) continue;
+    input.spec = parse_input(texts[0], path.parent_path());
+    for (size_t i = 1; i < texts.size(); ++i) input.fragments.push_back(parse_input(texts[i], path.parent_path()));
+    config.inputs.push_back(std::move(input));
+  }
+  std::stable_sort(config.inputs.begin(), config.inputs.end(), [&](const Input& a, const Input& b) {
+    const auto& order = roles_for_mode(config.mode);
+    return std::find(order.begin(), order.end(), a.role) < std::find(order.begin(), order.end(), b.role);
+  });
+}
+
+void read_sections(const YAML::Node& root, RunConfig& config, Problems& problems) {
+  for (Section& section : option_sections(config)) {
+    const YAML::Node n = root[section.key];
+    if (!n) continue;
+    std::vector<std::string> keys;
+    for (const Field& f : section.fields) keys.push_back(f.key);
+    if (!check_map(n, section.key, keys, problems)) continue;
+    for (Field& field : section.fields) {
+      const std::string key = section.key + "." + field.key;
+      if (const YAML::Node v = n[field.key]) {
+        problems.remember(key, v.Mark());
+        read_field(v, key, field, problems);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool takes_fragments(Role role) {
+  return role == Role::kScan || role == Role::kExemplar;
 }
 
 RunConfig load_config(const std::filesystem::path& path) {
@@ -281,86 +421,14 @@ RunConfig load_config(const std::filesystem::path& path) {
     problems.add(root.Mark(), "(top level)", "expected a map of settings, got " + describe(root));
     throw ConfigError(problems.message());
   }
-  std::vector<std::string> top{"mode", "inputs", "output", "threads"};
+  std::vector<std::string> top{"mode", "inputs", "output", "threads", "preset"};
   for (const Section& section : option_sections(config)) top.push_back(section.key);
   check_map(root, "", top, problems);
-
-  bool mode_known = true;  // a mode that is given but unknown: its inputs cannot be checked
-  if (const YAML::Node n = root["mode"]) {
-    problems.remember("mode", n.Mark());
-    std::string name;
-    const bool scalar = scalar_as(n, name);
-    const auto& modes = mode_names();
-    const auto it = std::find_if(modes.begin(), modes.end(), [&](const auto& m) { return m.first == name; });
-    if (scalar && it != modes.end()) {
-      config.mode = it->second;
-    } else {
-      mode_known = false;
-      problems.add(n.Mark(), "mode", "expected one of " + join(mode_list()) + ", got " + describe(n));
-    }
-  } else {
-    problems.add(root.Mark(), "mode", "missing (expected one of " + join(mode_list()) + ")");
-  }
-  if (const YAML::Node n = root["threads"]) {
-    problems.remember("threads", n.Mark());
-    if (!scalar_as(n, config.threads))
-      problems.add(n.Mark(), "threads", "expected an integer >= 0, got " + describe(n));
-  }
-  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir"}, problems)) {
-    if (const YAML::Node d = n["dir"]) {
-      std::string dir;
-      problems.remember("output.dir", d.Mark());
-      if (scalar_as(d, dir) && !dir.empty())
-        config.output_dir = dir;
-      else
-        problems.add(d.Mark(), "output.dir", "expected a folder path, got " + describe(d));
-    }
-  }
-  if (const YAML::Node n = root["inputs"]) {
-    problems.remember("inputs", n.Mark());
-    std::vector<std::string> valid;  // the mode's roles in order; every role when the mode is unknown
-    if (mode_known)
-      for (const Role role : roles_for_mode(config.mode)) valid.push_back(role_name(role));
-    else
-      for (const auto& [name, role] : role_names()) valid.push_back(name);
-    if (check_map(n, "inputs", valid, problems)) {
-      for (auto it = n.begin(); it != n.end(); ++it) {
-        if (!it->first.IsScalar()) continue;  // reported by check_map
-        const std::string name = it->first.as<std::string>();
-        const auto role = std::find(valid.begin(), valid.end(), name);
-        if (!mode_known || role == valid.end()) continue;
-        const std::string key = "inputs." + name;
-        problems.remember(key, it->second.Mark());
-        std::string text;
-        if (!scalar_as(it->second, text) || text.empty()) {
-          problems.add(it->second.Mark(), key, "expected a file path or procedural:NAME, got " + describe(it->second));
-          continue;
-        }
-        config.inputs.push_back(
-            {roles_for_mode(config.mode)[size_t(role - valid.begin())], parse_input(text, path.parent_path())});
-      }
-      std::stable_sort(config.inputs.begin(), config.inputs.end(), [&](const Input& a, const Input& b) {
-        const auto& order = roles_for_mode(config.mode);
-        return std::find(order.begin(), order.end(), a.role) < std::find(order.begin(), order.end(), b.role);
-      });
-    }
-  } else {
-    problems.remember("inputs", root.Mark());
-  }
-  for (Section& section : option_sections(config)) {
-    const YAML::Node n = root[section.key];
-    if (!n) continue;
-    std::vector<std::string> keys;
-    for (const Field& f : section.fields) keys.push_back(f.key);
-    if (!check_map(n, section.key, keys, problems)) continue;
-    for (Field& field : section.fields) {
-      const std::string key = section.key + "." + field.key;
-      if (const YAML::Node v = n[field.key]) {
-        problems.remember(key, v.Mark());
-        read_field(v, key, field, problems);
-      }
-    }
-  }
+  const bool mode_known = read_mode(root, config, problems);
+  read_threads_and_output(root, config, problems);
+  read_preset(root, config, problems);
+  read_inputs(root, mode_known, path, config, problems);
+  read_sections(root, config, problems);
   // Ranges and inputs of every value that parsed (one that did not keeps its valid default): all problems at once.
   for (const auto& [key, what] : validate(config))
     if (mode_known || key.rfind("inputs", 0) != 0) problems.add(problems.mark_of(key), key, what);
@@ -373,10 +441,13 @@ std::string default_config_yaml() {
   std::ostringstream s;
   s << "# scanfill configuration: every option with its default. Relative input paths are relative to this file.\n"
     << "mode: completion            # " << join(mode_list(), " | ") << "\n"
+    << "preset: scanfill            # scanfill | paper: the paper's sigma_n, mu, delta_n, label costs and 5-alpha MRF\n"
+    << "                            # ring as the defaults below (label.*, support.normal_angle_deg; keys override)\n"
     << "inputs:                     # completion: scan, template; transfer: source, target, exemplar;\n"
     << "                            # analogy: source, target. A file (.ply .pcd .obj .off .stl .xyz)\n"
     << "                            # or procedural:NAME (" << join(shape_names()) << "),\n"
     << "                            # or revolution:FILE (the body of revolution about z of a model: a template)\n"
+    << "                            # scan and exemplar may be a list of fragments, registered together\n"
     << "  scan: procedural:vase\n"
     << "  template: procedural:vase_template\n"
     << "output:\n"

@@ -37,13 +37,19 @@ enum class Role { kScan, kTemplate, kSource, kTarget, kExemplar };
 struct Input {
   Role role = Role::kScan;
   InputSpec spec;
+  std::vector<InputSpec> fragments;  // further fragments of a scan or exemplar given as a list (after `spec`)
 };
+
+// Whether an input of this role may be a list of fragments (scan and exemplar: the paper's vase, Figure 13, was
+// completed from two hand-held fragments).
+bool takes_fragments(Role role);
 
 struct RunConfig {
   RunMode mode = RunMode::kCompletion;
   std::vector<Input> inputs;                 // in the mode's role order
   std::filesystem::path output_dir = "out";  // created if missing; relative to the working directory
   int threads = 0;                           // 0 = all cores
+  std::string preset = "scanfill";           // the parameter set the sections start from: scanfill | paper
   LoadOptions load;
   SampleOptions sample;
   FeaturesOptions features;

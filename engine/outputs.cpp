@@ -70,6 +70,8 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
                     {"samples", f.features.points.size()},
                     {"spacing", f.sampled->sample.spacing},
                     {"unreliable_directions", f.features.unreliable_directions}};
+    for (const InputSpec& fragment : config.inputs[slot].fragments)
+      inputs[role]["fragments"].push_back(input_name(fragment));
   }
   return inputs;
 }

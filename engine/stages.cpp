@@ -61,9 +61,14 @@ auto run_node(RunState& state, const std::string& name, const std::string& subje
 }  // namespace
 
 LoadedPtr load_stage(RunState& state, const Input& input) {
-  const std::string role = role_name(input.role), name = "load:" + role, subject = input_name(input.spec);
+  const std::string role = role_name(input.role), name = "load:" + role;
+  const std::string subject =
+      input_name(input.spec) +
+      (input.fragments.empty() ? "" : " and " + std::to_string(input.fragments.size()) + " more fragments");
   return run_node(state, name, subject, [&](const ProgressFn&) {
-    LoadResult load = load_input(input.spec, state.config.load);
+    std::vector<InputSpec> specs{input.spec};
+    specs.insert(specs.end(), input.fragments.begin(), input.fragments.end());
+    LoadResult load = load_fragments(specs, state.config.load);
     if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), state.config.virtual_scan, subject);
     const BoundingBox box = input_bounds(load);
     auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});

@@ -94,13 +94,17 @@ void check_outputs_spare_inputs(const RunConfig& config) {
   for (const auto& input : config.inputs) written.push_back("samples_" + role_name(input.role) + ".ply");
   std::error_code ec;
   for (const auto& input : config.inputs) {
-    if (input.spec.path.empty()) continue;
-    const auto in = std::filesystem::weakly_canonical(input.spec.path, ec);
-    for (const auto& name : written)
-      if (!ec && in == std::filesystem::weakly_canonical(config.output_dir / name, ec))
-        throw ConfigError("inputs." + role_name(input.role) + ": " + input.spec.path.string() +
-                          " would be overwritten by this run's " + name.string() +
-                          " (output.dir: " + config.output_dir.string() + "); choose another output.dir");
+    std::vector<InputSpec> specs{input.spec};
+    specs.insert(specs.end(), input.fragments.begin(), input.fragments.end());
+    for (const InputSpec& spec : specs) {
+      if (spec.path.empty()) continue;
+      const auto in = std::filesystem::weakly_canonical(spec.path, ec);
+      for (const auto& name : written)
+        if (!ec && in == std::filesystem::weakly_canonical(config.output_dir / name, ec))
+          throw ConfigError("inputs." + role_name(input.role) + ": " + spec.path.string() +
+                            " would be overwritten by this run's " + name.string() +
+                            " (output.dir: " + config.output_dir.string() + "); choose another output.dir");
+    }
   }
 }
 

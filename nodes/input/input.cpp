@@ -75,4 +75,66 @@ LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
   return r;
 }
 
+namespace {
+
+// The fragments' points, one after the other; normals and faces only when every fragment has them.
+PointSet join_points(const std::vector<LoadResult>& parts, std::vector<std::string>& warnings) {
+  Index points = 0, faces = 0;
+  bool normals = true, meshes = true;
+  for (const LoadResult& part : parts) {
+    points += part.points.size();
+    faces += part.points.faces().cols();
+    normals = normals && part.points.has_normals();
+    meshes = meshes && part.points.has_faces();
+  }
+  Eigen::Matrix3Xd p(3, points), n(3, normals ? points : 0);
+  Matrix3Xi f(3, meshes ? faces : 0);
+  Index at = 0, face_at = 0;
+  for (const LoadResult& part : parts) {
+    const Index m = part.points.size();
+    p.middleCols(at, m) = part.points.positions();
+    if (normals) n.middleCols(at, m) = part.points.normals();
+    if (meshes) {
+      const Index k = part.points.faces().cols();
+      f.middleCols(face_at, k) = (part.points.faces().array() + std::int32_t(at)).matrix();
+      face_at += k;
+    }
+    at += m;
+  }
+  if (faces > 0 && !meshes) warnings.push_back("some fragments are point clouds: the fragments' faces are not used");
+  PointSet joined(std::move(p));
+  if (normals) joined.set_normals(std::move(n));
+  if (meshes) joined.set_faces(std::move(f));
+  // One scanner position for all, or none (normals are then oriented without one).
+  const auto& viewpoint = parts[0].points.viewpoint();
+  bool shared = true;
+  for (const LoadResult& part : parts) shared = shared && part.points.viewpoint() == viewpoint;
+  if (shared) joined.set_viewpoint(viewpoint);
+  return joined;
+}
+
+}  // namespace
+
+LoadResult load_fragments(const std::vector<InputSpec>& specs, const LoadOptions& options) {
+  if (specs.size() == 1) return load_input(specs[0], options);
+  std::vector<LoadResult> parts;
+  LoadResult joined;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    parts.push_back(load_input(specs[i], options));
+    const LoadResult& part = parts.back();
+    for (const auto& w : part.warnings) joined.warnings.push_back("fragment " + input_name(specs[i]) + ": " + w);
+    joined.file_points += part.file_points;
+    joined.dropped_nonfinite += part.dropped_nonfinite;
+    if (i == 0) {
+      joined.format = part.format;
+      joined.encoding = part.encoding;
+    } else if (part.format != joined.format || part.encoding != joined.encoding) {
+      joined.format = joined.encoding = "mixed";
+    }
+  }
+  joined.points = join_points(parts, joined.warnings);
+  joined.format += " (" + std::to_string(specs.size()) + " fragments)";
+  return joined;
+}
+
 }  // namespace scanfill

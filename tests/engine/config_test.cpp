@@ -125,5 +125,61 @@ TEST(Config, EveryBundledConfigLoadsAndValidates) {
   EXPECT_GE(n, 1);
 }
 
+TEST(Config, ThePaperPresetSetsThePapersValuesAndKeysStillOverrideIt) {
+  test::TempDir dir;
+  test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "preset: paper\nlabel:\n  mu: 0.75\n");
+  const RunConfig c = load_config(dir / "c.yaml");
+  EXPECT_EQ(c.preset, "paper");
+  EXPECT_DOUBLE_EQ(c.label.sigma_n, 0.1 * M_PI / 2);
+  EXPECT_DOUBLE_EQ(c.label.mu, 0.75);  // the key wins over the preset
+  EXPECT_TRUE(c.label.paper_label_costs);
+  EXPECT_DOUBLE_EQ(c.label.mrf_radius, 5.0);
+  EXPECT_DOUBLE_EQ(c.label.mrf_min_normal_dot, 0.0);
+  EXPECT_DOUBLE_EQ(c.support.normal_angle_deg, 90.0);
+  // The default preset leaves ours.
+  test::write_bytes(dir / "d.yaml", kValidHead);
+  const RunConfig d = load_config(dir / "d.yaml");
+  EXPECT_EQ(d.preset, "scanfill");
+  EXPECT_DOUBLE_EQ(d.label.mu, LabelOptions{}.mu);
+  EXPECT_FALSE(d.label.paper_label_costs);
+  const std::string e = config_error(dir, std::string(kValidHead) + "preset: papers\n");
+  EXPECT_NE(e.find("c.yaml:5:9: preset: expected scanfill or paper, got 'papers'"), std::string::npos) << e;
+}
+
+TEST(Config, AScanMayBeAListOfFragmentsAndEachIsChecked) {
+  test::TempDir dir;
+  test::write_bytes(dir / "a.xyz", "0 0 0\n");
+  test::write_bytes(dir / "b.xyz", "1 0 0\n");
+  test::write_bytes(dir / "c.yaml", "mode: completion\ninputs:\n  scan: [a.xyz, b.xyz]\n  template: procedural:vase\n");
+  const RunConfig c = load_config(dir / "c.yaml");
+  ASSERT_EQ(c.inputs.size(), 2u);
+  EXPECT_EQ(c.inputs[0].spec.path, dir / "a.xyz");
+  ASSERT_EQ(c.inputs[0].fragments.size(), 1u);
+  EXPECT_EQ(c.inputs[0].fragments[0].path, dir / "b.xyz");
+  // A missing fragment is named by its place in the list.
+  const std::string missing =
+      config_error(dir, "mode: completion\ninputs:\n  scan: [a.xyz, nope.xyz]\n  template: procedural:vase\n");
+  EXPECT_NE(missing.find("inputs.scan[1]: no such file"), std::string::npos) << missing;
+  // A list item that is not a path, an empty list, and a template given as a list.
+  const std::string nested =
+      config_error(dir, "mode: completion\ninputs:\n  scan: [a.xyz, [b.xyz]]\n  template: procedural:vase\n");
+  EXPECT_NE(nested.find("inputs.scan[1]: expected a file path or procedural:NAME, got a list"), std::string::npos)
+      << nested;
+  const std::string empty = config_error(dir, "mode: completion\ninputs:\n  scan: []\n  template: procedural:vase\n");
+  EXPECT_NE(empty.find("inputs.scan: expected a file path, procedural:NAME or a list of scan fragments"),
+            std::string::npos)
+      << empty;
+  const std::string templ = config_error(dir, "mode: completion\ninputs:\n  scan: a.xyz\n  template: [a.xyz, b.xyz]\n");
+  EXPECT_NE(templ.find("inputs.template: expected a file path or procedural:NAME, got a list"), std::string::npos)
+      << templ;
+  // Fragments are real scans: the virtual scanner does not scan them again.
+  const std::string scanned =
+      config_error(dir,
+                   "mode: completion\ninputs:\n  scan: [a.xyz, b.xyz]\n  template: procedural:vase\nvirtual_scan:\n"
+                   "  eye: [0, -3, 0]\n");
+  EXPECT_NE(scanned.find("virtual_scan.eye: a scan given as fragments is not scanned again"), std::string::npos)
+      << scanned;
+}
+
 }  // namespace
 }  // namespace scanfill
