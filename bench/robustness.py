@@ -7,7 +7,7 @@ diagonal and unseen-detail recall, beside the two baselines (the scan alone, tem
 scored against the styled target. Prints one JSON line per run and, at the end, a Markdown table per shape (min and
 median of F and unseen-detail, and the baselines' medians).
 
-    python3 bench/robustness.py build [--out DIR] [--only SUBSTRING] [--threads N] [--json FILE]
+    python3 bench/robustness.py build [--out DIR] [--only SUBSTRING] [--threads N] [--json FILE] [--preset NAME]
 
 Needs ../shared/data for the real cases (skipped with a message when absent).
 """
@@ -80,7 +80,7 @@ def yaml_list(v):
     return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
 
 
-def completion_case(exe, work, shape, model, template, view, threads):
+def completion_case(exe, work, shape, model, template, view, preset):
     name = f"{shape} | {template.split(':')[-1]} | {view}"
     tag = "".join(c if c.isalnum() else "_" for c in name)
     d = os.path.join(work, tag)
@@ -92,19 +92,19 @@ def completion_case(exe, work, shape, model, template, view, threads):
     cfg = os.path.join(d, "config.yaml")
     with open(cfg, "w") as f:
         f.write(f"mode: completion\ninputs:\n  scan: {scan}\n  template: {template}\noutput:\n  dir: {d}/out\n"
-                "sample:\n  count: 20000\n")
+                f"sample:\n  count: 20000\npreset: {preset}\n")
     return name, cfg, os.path.join(d, "out"), ["--reference", model, "--scan", scan, "--template", template,
                                               "--baselines"]
 
 
-def transfer_case(work, shape, source, target, exemplar):
+def transfer_case(work, shape, source, target, exemplar, preset):
     tag = "".join(c if c.isalnum() else "_" for c in shape)
     d = os.path.join(work, tag)
     os.makedirs(d, exist_ok=True)
     cfg = os.path.join(d, "config.yaml")
     with open(cfg, "w") as f:
         f.write(f"mode: transfer\ninputs:\n  source: {source}\n  target: {target}\n  exemplar: {exemplar}\n"
-                f"output:\n  dir: {d}/out\nsample:\n  count: 20000\n")
+                f"output:\n  dir: {d}/out\nsample:\n  count: 20000\npreset: {preset}\n")
     return cfg, os.path.join(d, "out")
 
 
@@ -131,6 +131,7 @@ def main():
     ap.add_argument("--only", default="", help="run only cases whose name contains this")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--json", default="", help="also write all rows to this file")
+    ap.add_argument("--preset", default="scanfill", help="the config's preset key (scanfill or paper)")
     ap.add_argument("--run-binary", default="", help="another scanfill for the main run (e.g. an older build to compare)")
     args = ap.parse_args()
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
@@ -159,11 +160,11 @@ def main():
             if case[0] == "completion":
                 _, shape, model, template, view = case
                 name, cfg, out_dir, eval_args = completion_case(exe, args.out, shape, model, template, view,
-                                                                args.threads)
+                                                                args.preset)
             else:
                 _, shape, source, target, exemplar, styled = case
                 name = shape
-                cfg, out_dir = transfer_case(args.out, shape, source, target, exemplar)
+                cfg, out_dir = transfer_case(args.out, shape, source, target, exemplar, args.preset)
                 eval_args = ["--reference", styled, "--scan", exemplar, "--template", target, "--baselines"]
             run([args.run_binary or exe, "--config", cfg, "--threads", str(args.threads), "-q"])
             row = {"shape": shape, "case": name, **score(exe, out_dir, eval_args, args.threads)}
