@@ -11,54 +11,6 @@
 namespace scanfill {
 namespace {
 
-// A grid of n x n points in z = 0 with spacing h, offset by (x0, 0, z).
-PointSet grid(int n, double h, double x0, double z) {
-  Eigen::Matrix3Xd p(3, n * n), nn(3, n * n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      p.col(i * n + j) = Eigen::Vector3d(x0 + i * h, j * h, z);
-      nn.col(i * n + j) = Eigen::Vector3d::UnitZ();
-    }
-  PointSet out(p);
-  out.set_normals(nn);
-  return out;
-}
-
-// Two flat patches side by side whose heights differ: eq. 10 closes the step between them while each stays flat.
-TEST(Align, ClosesTheSeamBetweenTwoPatchesAndKeepsEachFlat) {
-  const double h = 0.01;
-  const PointSet a = grid(20, h, 0.0, 0.0), b = grid(20, h, 0.2, 0.004);
-  Synthesis s;
-  Eigen::Matrix3Xd p(3, a.size() + b.size()), n(3, a.size() + b.size());
-  p << a.positions(), b.positions();
-  n << a.normals(), b.normals();
-  s.points = PointSet(p);
-  s.points.set_normals(n);
-  for (Index i = 0; i < p.cols(); ++i) {
-    const bool second = i >= a.size();
-    s.origin.push_back(Origin::kSynthesized);
-    s.label.push_back(second ? 1 : 0);
-    s.patch.push_back(second ? 1 : 0);
-    s.base.push_back(std::int32_t(i));
-    s.ring.push_back(0);
-  }
-  s.patches = {{0, Origin::kSynthesized, false, {}}, {1, Origin::kSynthesized, false, {}}};
-  const AlignResult r = align(s, h, {});
-  EXPECT_GT(r.seam_pairs, 0);
-  EXPECT_GT(r.gap_before, 0.003);
-  EXPECT_LT(r.gap_after, 0.1 * r.gap_before);
-  // Each patch moves (nearly) as one piece: the spread of offsets inside a patch is small against the step.
-  for (int patch = 0; patch < 2; ++patch) {
-    double lo = 1e9, hi = -1e9;
-    for (Index i = 0; i < p.cols(); ++i)
-      if (s.patch[size_t(i)] == patch) {
-        lo = std::min(lo, r.offset[size_t(i)]);
-        hi = std::max(hi, r.offset[size_t(i)]);
-      }
-    EXPECT_LT(hi - lo, 0.002) << "patch " << patch;
-  }
-}
-
 // Synthesis with one translation: the exemplar's image lands on the region of the target labelled with it, and the
 // transfer carries every original point and triangle.
 TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {

@@ -1,4 +1,7 @@
-// vote -> modes -> support -> label on procedural shapes with known answers (issue 3).
+// Integration test of the vote -> modes -> support -> label chain (issue 3): the four stages run one after another
+// with default options on procedural shapes whose analogy is known (a shape moved, scaled, copied twice, with a part
+// the source lacks; a symmetric cylinder; an L of two boxes), and the labelling is checked, not each stage. Each
+// stage's own known-answer tests are in tests/nodes/<stage>/.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

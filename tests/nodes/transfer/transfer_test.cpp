@@ -1,0 +1,221 @@
+// transfer node: known answers on grid meshes. A point of the exemplar follows its nearest sample's patch exactly:
+// moved by exemplar_to_working, the patch's transform and working_to_output, plus the sample's alignment offset along
+// its normal; points of thinned samples and the triangles they touch are left out; copies come from the target.
+// copy_surface: the target as it is when dense enough, else exactly the wanted number of points on its surface.
+#include "nodes/transfer/transfer.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "nodes/core/errors.h"
+
+namespace scanfill {
+namespace {
+
+Eigen::Matrix3d rot(double angle, const Eigen::Vector3d& axis) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+// A square of side `size` in z = 0 centred at `centre`, `segments` quads per side (2 triangles each), normals +z.
+PointSet grid_mesh(int segments, double size, const Eigen::Vector3d& centre = Eigen::Vector3d::Zero()) {
+  const int n = segments + 1;
+  Eigen::Matrix3Xd p(3, n * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      p.col(i * n + j) = centre + size * Eigen::Vector3d(double(j) / segments - 0.5, double(i) / segments - 0.5, 0);
+  Matrix3Xi f(3, 2 * segments * segments);
+  Index k = 0;
+  for (int i = 0; i < segments; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const int a = i * n + j, b = a + 1, c = a + n, d = c + 1;
+      f.col(k++) = Eigen::Vector3i(a, b, d);
+      f.col(k++) = Eigen::Vector3i(a, d, c);
+    }
+  PointSet out(p);
+  out.set_normals(Eigen::Matrix3Xd::Zero(3, p.cols()).colwise() + Eigen::Vector3d::UnitZ());
+  out.set_faces(f);
+  return out;
+}
+
+PointSet cloud(const Eigen::Matrix3Xd& p) {
+  PointSet out(p);
+  out.set_normals(Eigen::Matrix3Xd::Zero(3, p.cols()).colwise() + Eigen::Vector3d::UnitZ());
+  return out;
+}
+
+// A synthesis of patches, each made of base samples `samples[p]` (positions and normals in the base input's working
+// frame) moved by the patch's transform.
+Synthesis synthesis_of(const std::vector<Patch>& patches, const std::vector<PointSet>& samples) {
+  Synthesis s;
+  s.patches = patches;
+  Index total = 0;
+  for (const auto& b : samples) total += b.size();
+  Eigen::Matrix3Xd p(3, total), n(3, total);
+  Index k = 0;
+  for (size_t q = 0; q < patches.size(); ++q)
+    for (Index i = 0; i < samples[q].size(); ++i, ++k) {
+      p.col(k) = patches[q].transform.apply(samples[q].positions().col(i));
+      n.col(k) = patches[q].transform.apply_normal(samples[q].normals().col(i));
+      s.origin.push_back(patches[q].origin);
+      s.label.push_back(patches[q].label);
+      s.patch.push_back(std::int32_t(q));
+      s.base.push_back(std::int32_t(i));
+      s.ring.push_back(0);
+    }
+  s.points = PointSet(p);
+  s.points.set_normals(n);
+  return s;
+}
+
+AlignResult no_alignment(const Synthesis& s) {
+  AlignResult a;
+  a.offset.assign(size_t(s.points.size()), 0.0);
+  a.keep.assign(size_t(s.points.size()), 1);
+  return a;
+}
+
+PointSet in_working_frame(const PointSet& p, const Similarity& x) {
+  Eigen::Matrix3Xd q(3, p.size()), n(3, p.size());
+  for (Index i = 0; i < p.size(); ++i) {
+    q.col(i) = x.apply(p.positions().col(i));
+    n.col(i) = x.apply_normal(p.normals().col(i));
+  }
+  PointSet out(q);
+  out.set_normals(n);
+  return out;
+}
+
+const Similarity kX{rot(M_PI / 6, Eigen::Vector3d::UnitZ()), Eigen::Vector3d(0.1, 0.2, 0.3), 2.0};  // exemplar->working
+const Similarity kQ{rot(0.4, Eigen::Vector3d(1, 0, 1)), Eigen::Vector3d(1, -1, 0.5), 0.7};          // the patch's
+const Similarity kW{rot(0.2, Eigen::Vector3d::UnitY()), Eigen::Vector3d(0, 0, 1), 1.5};             // working->output
+
+TEST(Transfer, EveryExemplarPointMovesExactlyByItsPatchsTransform) {
+  // Samples = the exemplar's own vertices: each vertex's nearest sample is itself.
+  const PointSet E = grid_mesh(10, 1.0), samples = cloud(E.positions());
+  const Synthesis s = synthesis_of({{3, Origin::kSynthesized, false, kQ}}, {in_working_frame(samples, kX)});
+  AlignResult al = no_alignment(s);
+  for (size_t j = 0; j < al.offset.size(); ++j) al.offset[j] = 0.001 * double(j % 7);
+  const TransferResult out = transfer({E, samples, samples, samples, kX, s, al, kW});
+  ASSERT_EQ(out.points.size(), E.size());
+  const Similarity whole = kW.compose(kQ.compose(kX));
+  for (Index i = 0; i < E.size(); ++i) {
+    // Output order is the exemplar's; the offset moves along the synthesis normal, mapped to the output frame.
+    const Eigen::Vector3d n_working = s.points.normals().col(i);
+    const Eigen::Vector3d want =
+        whole.apply(E.positions().col(i)) + al.offset[size_t(i)] * kW.scale * kW.apply_normal(n_working);
+    EXPECT_LT((out.points.positions().col(i) - want).norm(), 1e-12) << "point " << i;
+    EXPECT_LT((out.points.normals().col(i) - whole.apply_normal(Eigen::Vector3d::UnitZ())).norm(), 1e-12);
+    EXPECT_EQ(out.origin[size_t(i)], Origin::kSynthesized);
+    EXPECT_EQ(out.label[size_t(i)], 3);
+  }
+  // Every triangle comes along, with the same corners.
+  EXPECT_EQ(out.points.faces(), E.faces());
+  out.points.check();
+}
+
+TEST(Transfer, PointsFollowTheirNearestSampleAndThinnedSamplesTakeThemAway) {
+  // A dense exemplar (21 x 21 vertices, step 0.05) and sparse samples (11 x 11, step 0.1) shifted off the vertices so
+  // that every vertex has one nearest sample.
+  const PointSet E = grid_mesh(20, 1.0);
+  const PointSet samples = cloud(grid_mesh(10, 1.0, Eigen::Vector3d(0.013, 0.007, 0)).positions());
+  const Synthesis s = synthesis_of({{2, Origin::kSynthesized, false, kQ}}, {samples});
+  AlignResult al = no_alignment(s);
+  for (size_t j = 0; j < al.keep.size(); j += 3) al.keep[j] = 0;
+  for (size_t j = 0; j < al.offset.size(); ++j) al.offset[j] = 0.01 * double(j % 5);
+  const TransferResult out = transfer({E, samples, samples, samples, Similarity{}, s, al, Similarity{}});
+  // Brute force: each vertex's nearest sample, the vertices it keeps, their slots in the output.
+  std::vector<std::int32_t> slot(size_t(E.size()), -1);
+  Index emitted = 0;
+  for (Index v = 0; v < E.size(); ++v) {
+    Index best = 0;
+    for (Index j = 1; j < samples.size(); ++j)
+      if ((samples.positions().col(j) - E.positions().col(v)).squaredNorm() <
+          (samples.positions().col(best) - E.positions().col(v)).squaredNorm())
+        best = j;
+    if (!al.keep[size_t(best)]) continue;
+    slot[size_t(v)] = std::int32_t(emitted);
+    const Eigen::Vector3d want =
+        kQ.apply(E.positions().col(v)) + al.offset[size_t(best)] * kQ.apply_normal(Eigen::Vector3d::UnitZ());
+    ASSERT_LT(emitted, out.points.size());
+    EXPECT_LT((out.points.positions().col(emitted) - want).norm(), 1e-12) << "vertex " << v;
+    ++emitted;
+  }
+  EXPECT_EQ(out.points.size(), emitted);
+  EXPECT_LT(emitted, E.size());  // a third of the samples thinned: their vertices are gone
+  // The triangles whose three corners were emitted, and only those.
+  std::vector<Eigen::Vector3i> want_faces;
+  for (Index f = 0; f < E.faces().cols(); ++f) {
+    const Eigen::Vector3i c = E.faces().col(f);
+    const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
+    if (m.minCoeff() >= 0) want_faces.push_back(m);
+  }
+  ASSERT_EQ(out.points.faces().cols(), Index(want_faces.size()));
+  EXPECT_GT(want_faces.size(), 0u);
+  for (Index f = 0; f < out.points.faces().cols(); ++f) EXPECT_EQ(out.points.faces().col(f), want_faces[size_t(f)]);
+}
+
+TEST(Transfer, TheExemplarAndACopyOfTheTargetEachKeepTheirOriginAndLabel) {
+  // Patch 0: the exemplar itself (completion's scan); patch 1: a copy of the target (self label 5), moved by c.
+  const PointSet E = grid_mesh(6, 1.0), e_samples = cloud(E.positions());
+  const PointSet target = cloud(grid_mesh(8, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  const PointSet t_samples = cloud(grid_mesh(4, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  const Similarity c{rot(0.3, Eigen::Vector3d::UnitZ()), Eigen::Vector3d(0, 1, 0), 1.0};
+  const Synthesis s = synthesis_of({{-1, Origin::kExemplar, false, Similarity{}}, {5, Origin::kTarget, true, c}},
+                                   {in_working_frame(e_samples, kX), t_samples});
+  const TransferResult out = transfer({E, e_samples, target, t_samples, kX, s, no_alignment(s), kW});
+  ASSERT_EQ(out.points.size(), E.size() + target.size());
+  for (Index i = 0; i < E.size(); ++i) {
+    EXPECT_LT((out.points.positions().col(i) - kW.apply(kX.apply(E.positions().col(i)))).norm(), 1e-12);
+    EXPECT_EQ(out.origin[size_t(i)], Origin::kExemplar);
+    EXPECT_EQ(out.label[size_t(i)], -1);
+  }
+  for (Index i = 0; i < target.size(); ++i) {
+    const Index o = E.size() + i;
+    EXPECT_LT((out.points.positions().col(o) - kW.apply(c.apply(target.positions().col(i)))).norm(), 1e-12);
+    EXPECT_EQ(out.origin[size_t(o)], Origin::kTarget);
+    EXPECT_EQ(out.label[size_t(o)], 5);
+  }
+  // The exemplar's triangles; the target is a cloud and adds none.
+  EXPECT_EQ(out.points.faces(), E.faces());
+}
+
+TEST(Transfer, AnAlignmentOfAnotherSynthesisIsRefused) {
+  const PointSet E = grid_mesh(4, 1.0), samples = cloud(E.positions());
+  const Synthesis s = synthesis_of({{0, Origin::kSynthesized, false, Similarity{}}}, {samples});
+  AlignResult al = no_alignment(s);
+  al.keep.pop_back();
+  EXPECT_THROW(transfer({E, samples, samples, samples, Similarity{}, s, al, Similarity{}}), InvariantError);
+}
+
+TEST(CopySurface, ACloudOrADenseEnoughMeshIsTheTargetItself) {
+  const PointSet c = cloud(grid_mesh(4, 1.0).positions());
+  EXPECT_EQ(&copy_surface(c, 100000, 10, 10).positions(), &c.positions());  // shared, not copied
+  // 41 x 41 = 1681 vertices >= 10 per sample x 100 samples.
+  const PointSet dense = grid_mesh(40, 1.0);
+  const PointSet same = copy_surface(dense, 1000, 100, 100);
+  EXPECT_EQ(&same.positions(), &dense.positions());
+  EXPECT_TRUE(same.has_faces());
+  // No exemplar samples to measure a density by: as it is.
+  const PointSet coarse = grid_mesh(4, 1.0);
+  EXPECT_EQ(copy_surface(coarse, 1000, 0, 100).size(), coarse.size());
+}
+
+TEST(CopySurface, ACoarseMeshGivesTheExemplarsDensityOnItsSurface) {
+  const PointSet coarse = grid_mesh(4, 1.0);  // 25 vertices
+  // 10 exemplar points per sample, 50 target samples: 500 points, on the square, without triangles.
+  const PointSet p = copy_surface(coarse, 1000, 100, 50);
+  ASSERT_EQ(p.size(), 500);
+  EXPECT_FALSE(p.has_faces());
+  for (Index i = 0; i < p.size(); ++i) {
+    EXPECT_NEAR(p.positions()(2, i), 0.0, 1e-12);
+    EXPECT_LE(p.positions().col(i).head<2>().cwiseAbs().maxCoeff(), 0.5 + 1e-12);
+  }
+  EXPECT_EQ(copy_surface(coarse, 1000, 100, 50).positions(), p.positions());  // seeded
+  // The density rounds up (10.01 x 50 = 500.5 -> 501) and is never below one point per sample.
+  EXPECT_EQ(copy_surface(coarse, 1001, 100, 50).size(), 501);
+  EXPECT_EQ(copy_surface(coarse, 10, 100, 50).size(), 50);
+}
+
+}  // namespace
+}  // namespace scanfill
