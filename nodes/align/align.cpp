@@ -10,6 +10,7 @@
 #include "nodes/align/align_options.h"
 #include "nodes/align/linear_pair_cost.h"
 #include "nodes/align/pull_cost.h"
+#include "nodes/core/ceres_summary.h"
 #include "nodes/core/kdtree.h"
 
 namespace scanfill {
@@ -87,6 +88,7 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    r.solver = summarize(summary);
   }
   r.gap_after = rms_gap();
 

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "nodes/core/ceres_summary.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/correspond/correspond_options.h"
@@ -220,11 +221,12 @@ class Deformation {
     return v;
   }
 
-  // One solve: data pairs (point, binding, goal, goal normal), landmarks (weighted, point-to-point), stiffness.
-  void solve(const Eigen::Matrix3Xd& points, const std::vector<Binding>& bindings,
-             const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
-             const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
-             const CorrespondOptions& o) {
+  // One solve, summarised: data pairs (point, binding, goal, goal normal), landmarks (weighted, point-to-point),
+  // stiffness.
+  SolverSummary solve(const Eigen::Matrix3Xd& points, const std::vector<Binding>& bindings,
+                      const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
+                      const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
+                      const CorrespondOptions& o) {
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
@@ -266,6 +268,7 @@ class Deformation {
     so.minimizer_progress_to_stdout = false;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    return summarize(summary);
   }
 
  private:
@@ -370,7 +373,8 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     for (int it = 0; it < o.outer_iterations; ++it) {
       std::vector<std::int32_t> match;
       assign(exemplar.has_normals(), r.deformed, normals, source, tree, spacing, o, match);
-      def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o);
+      r.deformation_solves.push_back(
+          def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o));
       tbb::parallel_for(Index(0), exemplar.size(),
                         [&](Index i) { r.deformed.col(i) = def.apply(bindings[size_t(i)], r.registered.col(i)); });
       stiffness *= 0.5;
