@@ -37,6 +37,14 @@ nlohmann::json transform_json(int label, const char* kind, const Similarity& q, 
           {"labelled", labelled}};
 }
 
+// A node's Ceres solve (nodes/core/solver_summary.h).
+nlohmann::json solver_json(const SolverSummary& s) {
+  return {{"termination", s.termination},
+          {"iterations", s.iterations},
+          {"initial_cost", s.initial_cost},
+          {"final_cost", s.final_cost}};
+}
+
 // A colour per label (golden-ratio hues), grey for the self-reference.
 std::array<double, 3> label_colour(int label, int self_label) {
   if (label == self_label) return {128, 128, 128};
@@ -76,7 +84,7 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
   return inputs;
 }
 
-// output.ply; the report's output, synthesis and correspondence.
+// output.ply; the report's output, synthesis, correspondence and align.
 void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
   const TransferResult& o = t.output;
   std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
@@ -109,6 +117,10 @@ void write_output(const RunState& state, const Transferred& t, nlohmann::json& r
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};
   if (s.coverage) report["correspondence"]["covered_template_samples"] = Index(s.coverage->cover.samples.size());
+  nlohmann::json solves = nlohmann::json::array();
+  for (const SolverSummary& solve : m.deformation_solves) solves.push_back(solver_json(solve));
+  report["correspondence"]["deformation_solves"] = solves;
+  report["align"] = {{"solver", al.solver ? solver_json(*al.solver) : nlohmann::json(nullptr)}};
 }
 
 // analogy.ply, the target samples coloured by transform; the report's transforms.

@@ -133,6 +133,12 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
             "after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
             c->map.matched, E.size(), c->map.deformed_rms);
+    for (size_t i = 0; i < c->map.deformation_solves.size(); ++i) {
+      const SolverSummary& s = c->map.deformation_solves[i];
+      node_logger("correspond")
+          ->debug("deformation solve {}: {} after {} iterations, cost {:.6g} -> {:.6g}", i + 1, s.termination,
+                  s.iterations, s.initial_cost, s.final_cost);
+    }
     return CorrespondencePtr(std::move(c));
   });
 }
@@ -275,8 +281,11 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in) {
   return run_node(state, "align", "", [&](const ProgressFn&) {
     auto out = std::make_shared<Aligned>(
         Aligned{in, align(in->synthesis, in->analogy->votes().spacing(), state.config.align)});
-    node_logger("align")->info("{} seam pairs, RMS gap {:.4g} -> {:.4g}", out->alignment.seam_pairs,
-                               out->alignment.gap_before, out->alignment.gap_after);
+    const AlignResult& al = out->alignment;
+    node_logger("align")->info("{} seam pairs, RMS gap {:.4g} -> {:.4g}", al.seam_pairs, al.gap_before, al.gap_after);
+    if (al.solver)
+      node_logger("align")->debug("solve: {} after {} iterations, cost {:.6g} -> {:.6g}", al.solver->termination,
+                                  al.solver->iterations, al.solver->initial_cost, al.solver->final_cost);
     return AlignedPtr(std::move(out));
   });
 }

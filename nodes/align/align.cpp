@@ -8,41 +8,13 @@
 #include <cmath>
 
 #include "nodes/align/align_options.h"
+#include "nodes/align/linear_pair_cost.h"
+#include "nodes/align/pull_cost.h"
+#include "nodes/core/ceres_summary.h"
 #include "nodes/core/kdtree.h"
 
 namespace scanfill {
 namespace {
-
-// r = w (c + a x + b y): a seam gap or a shape-keeping difference of two offsets.
-class LinearPair final : public ceres::SizedCostFunction<1, 1, 1> {
- public:
-  LinearPair(double w, double c, double a, double b) : w_(w), c_(c), a_(a), b_(b) {}
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    r[0] = w_ * (c_ + a_ * x[0][0] + b_ * x[1][0]);
-    if (J) {
-      if (J[0]) J[0][0] = w_ * a_;
-      if (J[1]) J[1][0] = w_ * b_;
-    }
-    return true;
-  }
-
- private:
-  double w_, c_, a_, b_;
-};
-
-// r = w x: the pull towards the start.
-class Pull final : public ceres::SizedCostFunction<1, 1> {
- public:
-  explicit Pull(double w) : w_(w) {}
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    r[0] = w_ * x[0][0];
-    if (J && J[0]) J[0][0] = w_;
-    return true;
-  }
-
- private:
-  double w_;
-};
 
 struct Seam {
   std::int32_t i, j;
@@ -82,7 +54,7 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
       if (ni_nj < cos_limit) continue;
       if (s.patch[size_t(i)] == s.patch[size_t(j)]) {
         if (o.keep_weight > 0)
-          problem.AddResidualBlock(new LinearPair(std::sqrt(o.keep_weight) * inv, 0, 1, -1), nullptr,
+          problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.keep_weight) * inv, 0, 1, -1), nullptr,
                                    &r.offset[size_t(i)], &r.offset[size_t(j)]);
         continue;
       }
@@ -91,14 +63,14 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
       const Seam seam{std::int32_t(i), j, (P.col(i) - P.col(j)).dot(m), N.col(i).dot(m), -N.col(j).dot(m)};
       seams.push_back(seam);
       if (o.gap_weight > 0)
-        problem.AddResidualBlock(new LinearPair(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b), nullptr,
+        problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b), nullptr,
                                  &r.offset[size_t(i)], &r.offset[size_t(j)]);
     }
   for (Index i = 0; i < n; ++i) {
     if (fixed(i)) {
       problem.SetParameterBlockConstant(&r.offset[size_t(i)]);
     } else {
-      problem.AddResidualBlock(new Pull(std::sqrt(o.pull) * inv), nullptr, &r.offset[size_t(i)]);
+      problem.AddResidualBlock(PullCost::Create(std::sqrt(o.pull) * inv), nullptr, &r.offset[size_t(i)]);
     }
   }
   const auto rms_gap = [&] {
@@ -116,6 +88,7 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    r.solver = summarize(summary);
   }
   r.gap_after = rms_gap();
 

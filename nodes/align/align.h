@@ -13,8 +13,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "nodes/core/solver_summary.h"
 #include "nodes/synthesize/synthesize.h"
 
 namespace scanfill {
@@ -33,6 +35,7 @@ struct AlignResult {
   std::vector<std::uint8_t> keep;  // per synthesis point: 0 when thinned out
   Index seam_pairs = 0;
   double gap_before = 0, gap_after = 0;  // RMS normal gap over the seam pairs, model units
+  std::optional<SolverSummary> solver;   // Ceres' summary of the solve; none without seam pairs (nothing to solve)
 };
 
 AlignResult align(const Synthesis& synthesis, double spacing, const AlignOptions& options);

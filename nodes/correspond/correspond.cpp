@@ -10,15 +10,18 @@
 #include <array>
 #include <cmath>
 
+#include "nodes/core/ceres_summary.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/correspond/correspond_options.h"
+#include "nodes/correspond/data_cost.h"
+#include "nodes/correspond/deformation_node.h"
+#include "nodes/correspond/rotation_cost.h"
+#include "nodes/correspond/smooth_cost.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
 namespace {
-
-constexpr int kNodesPerPoint = 4;  // deformation nodes influencing a point (Sumner et al. use k + 1 = 5 neighbours)
 
 // Share of `points` within `limit` of the tree's points.
 double share_within(const KdTree& tree, const Eigen::Matrix3Xd& points, double limit) {
@@ -163,90 +166,10 @@ Index assign(bool exemplar_normals, const Eigen::Matrix3Xd& positions, const Eig
   return matched;
 }
 
-// Embedded deformation: node j has an affine map A_j (row-major 3x3) and a translation t_j, packed as 12 doubles.
+// A sample's deformation nodes and their weights (deformation_node.h).
 struct Binding {
   std::array<std::int32_t, kNodesPerPoint> node;
   std::array<double, kNodesPerPoint> weight;
-};
-
-template <class T>
-Eigen::Matrix<T, 3, 1> deform_by(const T* x, const Eigen::Vector3d& p, const Eigen::Vector3d& g) {
-  const Eigen::Matrix<T, 3, 1> d = (p - g).cast<T>();
-  Eigen::Matrix<T, 3, 1> out;
-  for (int r = 0; r < 3; ++r) out(r) = x[3 * r] * d(0) + x[3 * r + 1] * d(1) + x[3 * r + 2] * d(2) + T(g(r)) + x[9 + r];
-  return out;
-}
-
-// Data term: 0.5 of point-to-point plus point-to-plane, in alpha units, times sqrt(weight). The deformed point is
-// linear in the 4 nodes' parameters, so the Jacobian is written out (autodiff of 48 parameters cost 5x more).
-class DataCost final : public ceres::SizedCostFunction<4, 12, 12, 12, 12> {
- public:
-  DataCost(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n,
-           const std::array<Eigen::Vector3d, kNodesPerPoint>& g, const std::array<double, kNodesPerPoint>& w,
-           double inv_alpha, double sqrt_weight, double plane)
-      : p_(p), q_(q), n_(n), g_(g), w_(w), scale_(inv_alpha * sqrt_weight), plane_(plane) {}
-
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (int i = 0; i < kNodesPerPoint; ++i) v += w_[size_t(i)] * deform_by(x[i], p_, g_[size_t(i)]);
-    const Eigen::Vector3d d = (v - q_) * scale_;
-    for (int c = 0; c < 3; ++c) r[c] = 0.5 * d(c);
-    r[3] = plane_ * d.dot(n_);
-    if (!J) return true;
-    for (int i = 0; i < kNodesPerPoint; ++i) {
-      if (!J[i]) continue;
-      // dv_c / dA[c][k] = w (p - g)_k, dv_c / dt_c = w; row-major 4 x 12.
-      Eigen::Map<Eigen::Matrix<double, 4, 12, Eigen::RowMajor>> Ji(J[i]);
-      Ji.setZero();
-      const double ws = w_[size_t(i)] * scale_;
-      const Eigen::Vector3d e = p_ - g_[size_t(i)];
-      for (int c = 0; c < 3; ++c) {
-        for (int k = 0; k < 3; ++k) {
-          Ji(c, 3 * c + k) = 0.5 * ws * e(k);
-          Ji(3, 3 * c + k) = plane_ * ws * e(k) * n_(c);
-        }
-        Ji(c, 9 + c) = 0.5 * ws;
-        Ji(3, 9 + c) = plane_ * ws * n_(c);
-      }
-    }
-    return true;
-  }
-
- private:
-  Eigen::Vector3d p_, q_, n_;
-  std::array<Eigen::Vector3d, kNodesPerPoint> g_;
-  std::array<double, kNodesPerPoint> w_;
-  double scale_, plane_;
-};
-
-// Rotation term: the columns of A orthonormal.
-struct RotationCost {
-  double sqrt_weight;
-  template <class T>
-  bool operator()(const T* x, T* r) const {
-    const Eigen::Matrix<T, 3, 1> c0(x[0], x[3], x[6]), c1(x[1], x[4], x[7]), c2(x[2], x[5], x[8]);
-    const T w(sqrt_weight);
-    r[0] = w * c0.dot(c1);
-    r[1] = w * c0.dot(c2);
-    r[2] = w * c1.dot(c2);
-    r[3] = w * (c0.dot(c0) - T(1));
-    r[4] = w * (c1.dot(c1) - T(1));
-    r[5] = w * (c2.dot(c2) - T(1));
-    return true;
-  }
-};
-
-// Smoothness term: node j's map predicts node k's new position.
-struct SmoothCost {
-  Eigen::Vector3d gj, gk;
-  double scale;  // sqrt(weight) / node spacing
-  template <class T>
-  bool operator()(const T* xj, const T* xk, T* r) const {
-    const Eigen::Matrix<T, 3, 1> d =
-        deform_by(xj, gk, gj) - (gk.cast<T>() + Eigen::Matrix<T, 3, 1>(xk[9], xk[10], xk[11]));
-    for (int c = 0; c < 3; ++c) r[c] = T(scale) * d(c);
-    return true;
-  }
 };
 
 class Deformation {
@@ -298,11 +221,12 @@ class Deformation {
     return v;
   }
 
-  // One solve: data pairs (point, binding, goal, goal normal), landmarks (weighted, point-to-point), stiffness.
-  void solve(const Eigen::Matrix3Xd& points, const std::vector<Binding>& bindings,
-             const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
-             const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
-             const CorrespondOptions& o) {
+  // One solve, summarised: data pairs (point, binding, goal, goal normal), landmarks (weighted, point-to-point),
+  // stiffness.
+  SolverSummary solve(const Eigen::Matrix3Xd& points, const std::vector<Binding>& bindings,
+                      const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
+                      const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
+                      const CorrespondOptions& o) {
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
@@ -311,7 +235,7 @@ class Deformation {
                         double weight, double plane, ceres::LossFunction* loss) {
       std::array<Eigen::Vector3d, kNodesPerPoint> g;
       for (int i = 0; i < kNodesPerPoint; ++i) g[size_t(i)] = nodes_.col(b.node[size_t(i)]);
-      problem.AddResidualBlock(new DataCost(p, q, n, g, b.weight, 1.0 / spacing, std::sqrt(weight), plane), loss,
+      problem.AddResidualBlock(DataCost::Create(p, q, n, g, b.weight, 1.0 / spacing, std::sqrt(weight), plane), loss,
                                &params_[size_t(b.node[0]) * 12], &params_[size_t(b.node[1]) * 12],
                                &params_[size_t(b.node[2]) * 12], &params_[size_t(b.node[3]) * 12]);
     };
@@ -330,13 +254,11 @@ class Deformation {
     for (const auto& [p, q] : landmarks)
       add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node, 0.0, nullptr);
     for (Index j = 0; j < nodes_.cols(); ++j)
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<RotationCost, 6, 12>(new RotationCost{std::sqrt(stiffness * per_node)}),
-          nullptr, &params_[size_t(j) * 12]);
+      problem.AddResidualBlock(RotationCost::Create(std::sqrt(stiffness * per_node)), nullptr,
+                               &params_[size_t(j) * 12]);
     const double edge_weight = stiffness * per_node / double(std::max(1, o.node_neighbors));
     for (const auto& [j, k] : edges_)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SmoothCost, 3, 12, 12>(new SmoothCost{
-                                   nodes_.col(j), nodes_.col(k), std::sqrt(edge_weight) / node_spacing_}),
+      problem.AddResidualBlock(SmoothCost::Create(nodes_.col(j), nodes_.col(k), std::sqrt(edge_weight) / node_spacing_),
                                nullptr, &params_[size_t(j) * 12], &params_[size_t(k) * 12]);
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -346,6 +268,7 @@ class Deformation {
     so.minimizer_progress_to_stdout = false;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    return summarize(summary);
   }
 
  private:
@@ -448,7 +371,8 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
     for (int it = 0; it < o.outer_iterations; ++it) {
       std::vector<std::int32_t> match;
       assign(exemplar.has_normals(), r.deformed, normals, source, tree, spacing, o, match);
-      def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o);
+      r.deformation_solves.push_back(
+          def.solve(r.registered, bindings, match, source, spacing, landmarks, stiffness, o));
       tbb::parallel_for(Index(0), exemplar.size(),
                         [&](Index i) { r.deformed.col(i) = def.apply(bindings[size_t(i)], r.registered.col(i)); });
       stiffness *= 0.5;

@@ -24,6 +24,7 @@
 #include "nodes/core/point_set.h"
 #include "nodes/core/progress.h"
 #include "nodes/core/similarity.h"
+#include "nodes/core/solver_summary.h"
 
 namespace scanfill {
 
@@ -65,6 +66,8 @@ struct CorrespondResult {
   Index matched = 0;                          // exemplar samples with a source sample
   double rigid_rms = 0;                       // RMS distance of the trimmed ICP pairs, model units
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
+  // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).
+  std::vector<SolverSummary> deformation_solves;
   std::vector<std::string> warnings;
 };
 

@@ -99,6 +99,15 @@ TEST(EndToEnd, FurnitureTransferGetsTheExemplarsLegsOnANewStructure) {
   std::printf("transfer: F %.3f against the styled target; the plain target scores %.3f\n", ours, plain);
   EXPECT_GE(ours, 0.85);
   EXPECT_GT(ours, plain);
+  // The seams of this run are aligned by a Ceres solve, summarised in the report (issue 9).
+  const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
+  ASSERT_GT(report.at("synthesis").at("seam_pairs").get<Index>(), 0);
+  const auto& solver = report.at("align").at("solver");
+  ASSERT_TRUE(solver.is_object());
+  EXPECT_EQ(solver.at("termination"), "CONVERGENCE");  // eq. 10 is linear: a few steps converge
+  EXPECT_GE(solver.at("iterations").get<int>(), 2);
+  EXPECT_LT(solver.at("final_cost").get<double>(), solver.at("initial_cost").get<double>());
+  EXPECT_EQ(report.at("correspondence").at("deformation_solves").size(), size_t(CorrespondOptions{}.outer_iterations));
 }
 
 TEST(EndToEnd, TheSameInputGivesTheSameOutput) {

@@ -52,6 +52,25 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   const LoadResult out = read_point_set(dir / "out" / "output.ply");
   EXPECT_EQ(out.points.size(), report["output"]["points"].get<Index>());
   EXPECT_GT(report["output"]["exemplar_points"].get<Index>(), 0);
+  // Each Ceres solve's summary (issue 9; .at: a missing key fails the test): one per outer iteration of correspond's
+  // deformation, one for align.
+  const auto solved = [](const nlohmann::json& solver) {
+    EXPECT_FALSE(solver.at("termination").get<std::string>().empty());
+    EXPECT_NE(solver.at("termination"), "FAILURE");
+    EXPECT_GE(solver.at("iterations").get<int>(), 1);
+    EXPECT_LE(solver.at("final_cost").get<double>(), solver.at("initial_cost").get<double>());
+  };
+  const auto& solves = report.at("correspondence").at("deformation_solves");
+  ASSERT_EQ(solves.size(), size_t(CorrespondOptions{}.outer_iterations));
+  for (const auto& solver : solves) solved(solver);
+  // align solves only when there are seam pairs (this small run has none; the furniture end-to-end test has some).
+  const auto& align_solver = report.at("align").at("solver");
+  if (report.at("synthesis").at("seam_pairs").get<Index>() > 0) {
+    ASSERT_TRUE(align_solver.is_object());
+    solved(align_solver);
+  } else {
+    EXPECT_TRUE(align_solver.is_null());
+  }
 }
 
 TEST(Pipeline, AnalogyModeWritesTheLabelledTargetAndTheTransforms) {
