@@ -12,6 +12,7 @@
 
 #include "nodes/core/ceres_summary.h"
 #include "nodes/core/errors.h"
+#include "nodes/core/icp.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/correspond/correspond_options.h"
 #include "nodes/correspond/data_cost.h"
@@ -47,50 +48,44 @@ double median(std::vector<double> v) {
 // relief layer (the gear's teeth), so the default keeps the mean (3). Rigid: the inputs share a scale.
 Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const CorrespondOptions& o,
                      double& rms) {
-  Similarity q;
   const Eigen::Matrix3Xd& from = exemplar.positions();
   const bool oriented = exemplar.has_normals() && source.has_normals();
+  const int coarse = source.has_normals() ? o.rigid_iterations / 3 : o.rigid_iterations;  // point-to-point steps
   std::vector<std::int32_t> idx;
   std::vector<double> d2;
-  Eigen::Matrix3Xd moved(3, from.cols());
-  for (int it = 0; it < o.rigid_iterations; ++it) {
-    for (Index i = 0; i < from.cols(); ++i) moved.col(i) = q.apply(from.col(i));
-    nearest_each(tree, moved, idx, d2);
-    const bool fine = it >= o.rigid_iterations / 3 && source.has_normals();
-    const double trim = fine ? o.rigid_fine_trim : o.rigid_trim;
+  std::vector<Index> keep;
+  const auto find_pairs = [&](const Similarity& q, int it, IcpPairs& pairs) {
+    pairs.moved.resize(3, from.cols());
+    for (Index i = 0; i < from.cols(); ++i) pairs.moved.col(i) = q.apply(from.col(i));
+    nearest_each(tree, pairs.moved, idx, d2);
+    const double trim = it >= coarse ? o.rigid_fine_trim : o.rigid_trim;
     const double limit = trim * trim * std::max(median(d2), 1e-300);
-    std::vector<Index> keep;
-    keep.reserve(idx.size());
+    keep.clear();
     for (size_t i = 0; i < idx.size(); ++i) {
       if (d2[i] > limit) continue;
       if (oriented && q.apply_normal(exemplar.normals().col(Index(i))).dot(source.normals().col(idx[i])) < 0) continue;
       keep.push_back(Index(i));
     }
-    if (keep.size() < 7) break;
     Eigen::Matrix3Xd a(3, Index(keep.size())), b(3, Index(keep.size())), n(3, Index(keep.size()));
     double sum = 0;
     for (size_t j = 0; j < keep.size(); ++j) {
       const Index i = keep[j];
-      a.col(Index(j)) = moved.col(i);
+      a.col(Index(j)) = pairs.moved.col(i);
       b.col(Index(j)) = source.positions().col(idx[size_t(i)]);
       if (source.has_normals()) n.col(Index(j)) = source.normals().col(idx[size_t(i)]);
       sum += d2[size_t(i)];
     }
-    rms = std::sqrt(sum / double(keep.size()));
-    Similarity next;
-    if (!fine) {
-      const Similarity d = fit_similarity(a, b, false);
-      next.rotation = nearest_rotation(d.rotation * q.rotation);
-      next.translation = d.rotation * q.translation + d.translation;
-    } else {
-      next = point_to_plane_step(q, a, b, n, false);
-    }
-    const double change = rotation_angle(next.rotation * q.rotation.transpose()) +
-                          (next.translation - q.translation).norm() / std::max(rms, 1e-300);
-    q = next;
-    if (change < 1e-6) break;
-  }
-  return q;
+    pairs.moved = std::move(a);
+    pairs.to = std::move(b);
+    pairs.normals = std::move(n);
+    pairs.rms = keep.empty() ? 0.0 : std::sqrt(sum / double(keep.size()));
+    if (keep.size() >= 7) rms = pairs.rms;
+  };
+  return icp(Similarity{}, find_pairs,
+             {.iterations = o.rigid_iterations,
+              .point_to_point_iterations = coarse,
+              .min_pairs = 7,
+              .converged_change = 1e-6});
 }
 
 // Min-cost flow assignment of exemplar samples to source samples (partial, many-to-one).

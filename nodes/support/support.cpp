@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 
+#include "nodes/core/icp.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/support/support_options.h"
 
@@ -76,33 +77,35 @@ std::vector<SupportedTransform> grow_all(const PointSet& source, const PointSet&
     Context cc = c;
     cc.max_distance = std::max(fine, mode_accuracy);
     st.support = grow(cc, st.transform, modes[m].voters);
-    for (int it = 0; it < o.icp_iterations && Index(st.support.size()) >= 3; ++it) {
-      // Correspondences on an even subsample of the support: 7 parameters need a few thousand.
+    // Correspondences on an even subsample of the support: 7 parameters need a few thousand.
+    const auto find_pairs = [&](const Similarity& q, int, IcpPairs& pairs) {
       const size_t stride = (st.support.size() + size_t(o.icp_samples) - 1) / size_t(o.icp_samples);
-      const Index cap = Index((st.support.size() + stride - 1) / stride);
-      Eigen::Matrix3Xd from(3, cap), to(3, cap), normals(3, cap);
+      const Index cap = st.support.empty() ? 0 : Index((st.support.size() + stride - 1) / stride);
+      Eigen::Matrix3Xd moved(3, cap), to(3, cap), normals(3, cap);
       Index n = 0;
       for (size_t i = 0; i < st.support.size(); i += stride) {
         const std::int32_t t = st.support[i];
-        const std::int32_t s = explained(cc, st.transform, t);
+        const std::int32_t s = explained(cc, q, t);
         if (s < 0) continue;
-        from.col(n) = target.positions().col(t);
+        moved.col(n) = q.apply(target.positions().col(t));
         to.col(n) = source.positions().col(s);
         normals.col(n) = source.normals().col(s);
         ++n;
       }
-      if (n < 3) break;
-      // Point-to-point steps while far (robust), then point-to-plane steps (precise, and they slide along faces).
-      if (it < o.icp_iterations / 2) {
-        st.transform = fit_similarity(from.leftCols(n), to.leftCols(n), o.allow_scale);
-      } else {
-        Eigen::Matrix3Xd moved(3, n);
-        for (Index i = 0; i < n; ++i) moved.col(i) = st.transform.apply(from.col(i));
-        st.transform = point_to_plane_step(st.transform, moved, to.leftCols(n), normals.leftCols(n), o.allow_scale);
-      }
+      pairs.moved = moved.leftCols(n);
+      pairs.to = to.leftCols(n);
+      pairs.normals = normals.leftCols(n);
+    };
+    // After each step, a tighter distance (halved, down to `distance` alpha) and the support regrown.
+    const auto regrow = [&](const Similarity& q) {
       cc.max_distance = std::max(fine, 0.5 * cc.max_distance);
-      st.support = grow(cc, st.transform, st.support);
-    }
+      st.support = grow(cc, q, st.support);
+    };
+    st.transform = icp(st.transform, find_pairs,
+                       {.iterations = o.icp_iterations,
+                        .point_to_point_iterations = o.icp_iterations / 2,
+                        .allow_scale = o.allow_scale},
+                       regrow);
     st.support = grow(c, st.transform, st.support.empty() ? modes[m].voters : st.support);
     double sum = 0;
     Index n = 0;

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "nodes/core/errors.h"
+#include "nodes/core/icp.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/synthesize/synthesize_options.h"
 
@@ -134,33 +135,35 @@ class PlacedImages {
     return {sum, overlap};
   }
 
-  // One rigid point-to-plane ICP step of the image under c o q onto the placed images, on the overlap only; false when
-  // fewer than 30 samples overlap.
-  bool icp_step(const Similarity& q, Similarity& c) const {
+  // Rigid point-to-plane ICP of the image under c o q onto the placed images, on the overlap only (pairs within the
+  // limit with normals within 60 degrees; at least 30): returns the refined c.
+  Similarity fit_onto_placed(const Similarity& q, const Similarity& c, int iterations) const {
     Eigen::Matrix3Xd p, n;
-    image(c.compose(q), p, n);
-    std::vector<std::int32_t> match(size_t(p.cols()), -1);
-    tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
-      std::int32_t i;
-      double d2;
-      tree_.knn(p.col(e), 1, &i, &d2);
-      if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
-    });
-    std::vector<Index> pairs;
-    for (Index e = 0; e < p.cols(); ++e)
-      if (match[size_t(e)] >= 0) pairs.push_back(e);
-    if (pairs.size() < 30) return false;
-    Eigen::Matrix3Xd a(3, Index(pairs.size())), b(3, Index(pairs.size())), bn(3, Index(pairs.size()));
-    for (size_t j = 0; j < pairs.size(); ++j) {
-      a.col(Index(j)) = p.col(pairs[j]);
-      b.col(Index(j)) = ref_p_.col(match[size_t(pairs[j])]);
-      bn.col(Index(j)) = ref_n_.col(match[size_t(pairs[j])]);
-    }
-    c = point_to_plane_step(c, a, b, bn, false);
-    return true;
+    std::vector<std::int32_t> match;
+    std::vector<Index> overlap;
+    const auto find_pairs = [&](const Similarity& estimate, int, IcpPairs& pairs) {
+      image(estimate.compose(q), p, n);
+      match.assign(size_t(p.cols()), -1);
+      tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
+        std::int32_t i;
+        double d2;
+        tree_.knn(p.col(e), 1, &i, &d2);
+        if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
+      });
+      overlap.clear();
+      for (Index e = 0; e < p.cols(); ++e)
+        if (match[size_t(e)] >= 0) overlap.push_back(e);
+      pairs.moved.resize(3, Index(overlap.size()));
+      pairs.to.resize(3, Index(overlap.size()));
+      pairs.normals.resize(3, Index(overlap.size()));
+      for (size_t j = 0; j < overlap.size(); ++j) {
+        pairs.moved.col(Index(j)) = p.col(overlap[j]);
+        pairs.to.col(Index(j)) = ref_p_.col(match[size_t(overlap[j])]);
+        pairs.normals.col(Index(j)) = ref_n_.col(match[size_t(overlap[j])]);
+      }
+    };
+    return icp(c, find_pairs, {.iterations = iterations, .point_to_point_iterations = 0, .min_pairs = 30});
   }
-
-  Index exemplar_size() const { return ep_.cols(); }
 
  private:
   const Eigen::Matrix3Xd &ep_, &en_;
@@ -261,9 +264,8 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      Similarity c = phase_correction(placed, inv[best], target, labels, int(best), spacing, o);
-      for (int it = 0; it < o.refine_iterations; ++it)
-        if (!placed.icp_step(inv[best], c)) break;
+      const Similarity c = placed.fit_onto_placed(
+          inv[best], phase_correction(placed, inv[best], target, labels, int(best), spacing, o), o.refine_iterations);
       inv[best] = c.compose(inv[best]);
       out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
       out.refinement_shift[best] = c.translation.norm();
