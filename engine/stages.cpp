@@ -191,7 +191,7 @@ VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
     v->symmetries = in;
     v->votes = vote(in->source, in->target->features.points, in->spacing, state.config.vote);
     // A source symmetric about an axis votes for rings of equivalent motions: one mode per ring (DESIGN section 9).
-    if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous, state.config.vote);
+    if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous);
     node_logger("vote")->info("{} votes from {} target samples{}", v->votes.embedding.cols(),
                               std::min<Index>(state.config.vote.target_samples, in->target->features.points.size()),
                               in->source_symmetry.continuous ? ", modulo the source's continuous symmetry" : "");
@@ -201,7 +201,7 @@ VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
 
 FoundModesPtr modes_stage(RunState& state, const VotesPtr& in) {
   return run_node(state, "modes", "", [&](const ProgressFn&) {
-    auto m = std::make_shared<FoundModes>(FoundModes{in, find_modes(in->votes, state.config.vote, state.config.modes)});
+    auto m = std::make_shared<FoundModes>(FoundModes{in, find_modes(in->votes, state.config.modes)});
     node_logger("modes")->info("{} modes from {} seeds", m->modes.modes.size(), m->modes.seeds);
     if (m->modes.modes.empty()) state.warn("modes", "no transform found: every target sample is self-referenced");
     return FoundModesPtr(std::move(m));
@@ -218,10 +218,11 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     SupportOptions options = config.support;
     options.allow_scale = config.vote.allow_scale;
     const PointSet& T = v.target()->features.points;
-    const SupportResult voted = grow_supports(v.source(), T, in->modes.modes, v.spacing(),
-                                              mode_accuracy(v.votes, config.vote, config.modes), options);
+    const SupportResult voted =
+        grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
-    const std::vector<Mode> composed = composed_candidates(voted, v.symmetries->target_symmetry, T, config.symmetry);
+    const std::vector<Mode> composed =
+        composed_candidates(voted.transforms, v.symmetries->target_symmetry, T, config.symmetry);
     s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());

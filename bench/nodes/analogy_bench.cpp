@@ -46,10 +46,10 @@ void BM_Analogy(benchmark::State& state) {
     bench::Stopwatch clock;
     const VoteResult votes = vote(in.source, in.target, in.spacing, vo);
     stage_ms[0] += clock.lap_ms();
-    const ModesResult modes = find_modes(votes, vo, {});
+    const ModesResult modes = find_modes(votes, {});
     stage_ms[1] += clock.lap_ms();
     const SupportResult support =
-        grow_supports(in.source, in.target, modes.modes, in.spacing, mode_accuracy(votes, vo, {}), so);
+        grow_supports(in.source, in.target, modes.modes, in.spacing, mode_accuracy(votes, {}), so);
     stage_ms[2] += clock.lap_ms();
     const LabelResult labels = label_target(in.source, in.target, support.transforms, in.spacing, {});
     stage_ms[3] += clock.lap_ms();

@@ -29,9 +29,9 @@
 
 #include <vector>
 
+#include "nodes/core/analogy.h"
 #include "nodes/core/point_set.h"
 #include "nodes/graphcut/expansion.h"
-#include "nodes/support/support.h"
 
 namespace scanfill {
 

@@ -11,11 +11,11 @@
 
 namespace scanfill {
 
-double mode_accuracy(const VoteResult& votes, const VoteOptions& vo, const ModesOptions& o) {
-  return o.bandwidth * votes.diagonal / vo.translation_weight;
+double mode_accuracy(const VoteResult& votes, const ModesOptions& o) {
+  return o.bandwidth * votes.diagonal / votes.weights.translation;
 }
 
-ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const ModesOptions& o) {
+ModesResult find_modes(const VoteResult& votes, const ModesOptions& o) {
   check_options(o);  // the config checks these too; a direct caller gets the same checks
   ModesResult result;
   const Index n = votes.embedding.cols();
@@ -75,7 +75,7 @@ ModesResult find_modes(const VoteResult& votes, const VoteOptions& vo, const Mod
     if (near) continue;
     kept.push_back(x);
     Mode mode;
-    mode.transform = unembed(x, votes, vo);
+    mode.transform = unembed(x, votes);
     std::vector<std::vector<size_t>> idx;
     std::vector<std::vector<double>> dist;
     Vec xq = x;

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "nodes/vote/vote.h"
+#include "nodes/core/analogy.h"
 
 namespace scanfill {
 
@@ -19,20 +19,14 @@ struct ModesOptions {
   Index min_votes = 8;      // modes with fewer votes are dropped; >= 1
 };
 
-struct Mode {
-  Similarity transform;
-  Index votes = 0;                   // votes within the bandwidth
-  std::vector<std::int32_t> voters;  // distinct target samples whose votes are within the bandwidth
-};
-
 struct ModesResult {
   std::vector<Mode> modes;  // by decreasing votes
   Index seeds = 0;
 };
 
 // How far (model units) a mode's transform may be from the truth: the bandwidth, in translation units.
-double mode_accuracy(const VoteResult& votes, const VoteOptions& vote_options, const ModesOptions& options);
+double mode_accuracy(const VoteResult& votes, const ModesOptions& options);
 
-ModesResult find_modes(const VoteResult& votes, const VoteOptions& vote_options, const ModesOptions& options);
+ModesResult find_modes(const VoteResult& votes, const ModesOptions& options);
 
 }  // namespace scanfill

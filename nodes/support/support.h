@@ -15,9 +15,9 @@
 
 #include <vector>
 
+#include "nodes/core/analogy.h"
 #include "nodes/core/point_set.h"
 #include "nodes/core/similarity.h"
-#include "nodes/modes/modes.h"
 
 namespace scanfill {
 
@@ -33,12 +33,6 @@ struct SupportOptions {
   double duplicate_distance = 1.0;   // ... and moving the support centre less than this many alpha are merged
   double redundant_overlap = 0.9;    // a transform whose support lies this much inside a stronger one's is dropped
                                      // (a symmetric equivalent, or a slid part); (0, 1], 1 = only exact subsets
-};
-
-struct SupportedTransform {
-  Similarity transform;
-  std::vector<std::int32_t> support;  // target samples explained, ascending
-  double rms = 0;                     // RMS distance of the support to the source after refinement
 };
 
 struct SupportResult {

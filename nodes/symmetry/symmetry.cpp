@@ -146,23 +146,24 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   return result;
 }
 
-void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options) {
+void quotient_votes(VoteResult& votes, const SymmetryAxis& axis) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {
-    const Similarity q = unembed(votes.embedding.col(v), votes, vote_options);
+    const Similarity q = unembed(votes.embedding.col(v), votes);
     const Similarity g = rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction));
-    votes.embedding.col(v) = embed(g.compose(q), votes, vote_options);
+    votes.embedding.col(v) = embed(g.compose(q), votes);
   });
 }
 
-std::vector<Mode> composed_candidates(const SupportResult& found, const SymmetryResult& target_symmetry,
-                                      const PointSet& target, const SymmetryOptions& o) {
+std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
+                                      const SymmetryResult& target_symmetry, const PointSet& target,
+                                      const SymmetryOptions& o) {
   std::vector<Mode> out;
-  if (!o.enabled || target_symmetry.rotations.empty() || found.transforms.empty()) return out;
+  if (!o.enabled || target_symmetry.rotations.empty() || found.empty()) return out;
   KdTree tree;
   tree.build(target.positions());
-  const size_t bases = std::min<size_t>(found.transforms.size(), size_t(std::max(0, o.max_base_transforms)));
+  const size_t bases = std::min<size_t>(found.size(), size_t(std::max(0, o.max_base_transforms)));
   for (size_t b = 0; b < bases; ++b) {
-    const SupportedTransform& q = found.transforms[b];
+    const SupportedTransform& q = found[b];
     // On a continuous axis of T, ICP lets Q slide freely: snap it first to the member of its family whose rotation
     // is nearest the identity, so that its compositions fall on the axis rotations eq. 9 prefers.
     Similarity base = q.transform;

@@ -23,10 +23,9 @@
 #include <optional>
 #include <vector>
 
+#include "nodes/core/analogy.h"
 #include "nodes/core/point_set.h"
 #include "nodes/core/similarity.h"
-#include "nodes/modes/modes.h"
-#include "nodes/support/support.h"
 
 namespace scanfill {
 
@@ -60,7 +59,7 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
 // Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
 // member of its family G_theta o Q (G_theta the rotation about the axis, which leaves S unchanged) whose rotation is
 // nearest the identity, so that a ring of equivalent motions becomes one mode. Its phase is fixed later.
-void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptions& vote_options);
+void quotient_votes(VoteResult& votes, const SymmetryAxis& axis);
 
 // Candidates the paper expects: each of the `max_base_transforms` strongest found transforms Q (target -> source)
 // composed with each symmetry R of the target (target -> target): Q o R explains the target samples that R carries
@@ -68,7 +67,8 @@ void quotient_votes(VoteResult& votes, const SymmetryAxis& axis, const VoteOptio
 // rotation is nearest the identity (ICP slides it freely along the axis), which is a candidate too: its compositions
 // with the axis steps then include the axis rotations. Returned as modes whose voters are those samples, for
 // grow_supports.
-std::vector<Mode> composed_candidates(const SupportResult& found, const SymmetryResult& target_symmetry,
-                                      const PointSet& target, const SymmetryOptions& options);
+std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
+                                      const SymmetryResult& target_symmetry, const PointSet& target,
+                                      const SymmetryOptions& options);
 
 }  // namespace scanfill

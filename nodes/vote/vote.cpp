@@ -37,26 +37,6 @@ Eigen::Matrix3d frame(const PointSet& p, Index i, int variant) {
 
 }  // namespace
 
-Eigen::Matrix<double, 13, 1> embed(const Similarity& q, const VoteResult& f, const VoteOptions& o) {
-  Eigen::Matrix<double, 13, 1> x;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) x(3 * r + c) = o.rotation_weight * q.rotation(r, c);
-  x.segment<3>(9) = o.translation_weight * (q.translation - f.center) / f.diagonal;
-  x(12) = o.scale_weight * std::log(q.scale);
-  return x;
-}
-
-Similarity unembed(const Eigen::Matrix<double, 13, 1>& x, const VoteResult& f, const VoteOptions& o) {
-  Similarity q;
-  Eigen::Matrix3d M;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) M(r, c) = x(3 * r + c) / o.rotation_weight;
-  q.rotation = nearest_rotation(M);
-  q.translation = x.segment<3>(9) * f.diagonal / o.translation_weight + f.center;
-  q.scale = std::exp(x(12) / o.scale_weight);
-  return q;
-}
-
 VoteResult vote(const PointSet& source, const PointSet& target, double spacing, const VoteOptions& o) {
   check_options(o);  // the config checks these too; a direct caller gets the same checks
   for (const PointSet* p : {&source, &target})
@@ -69,6 +49,7 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
   const BoundingBox box = bounding_box(both);
   result.center = 0.5 * (box.min + box.max);
   result.diagonal = std::max(box.diagonal(), 1e-12);
+  result.weights = {o.rotation_weight, o.translation_weight, o.scale_weight};
 
   // Source points sorted by signature.
   std::vector<std::pair<double, std::int32_t>> by_sig(static_cast<size_t>(source.size()));
@@ -131,7 +112,7 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
         q.rotation = Fs * frame(target, t, var).transpose();
         q.scale = scale;
         q.translation = source.positions().col(s) - scale * q.rotation * target.positions().col(t);
-        all.col(Index(out)) = embed(q, result, o);
+        all.col(Index(out)) = embed(q, result);
         owner[out++] = std::int32_t(t);
       }
     }

@@ -8,15 +8,14 @@
 // `matches_per_point` nearest source points in signature k2/k1 (flat points form a class of their own).
 // Flat target points (|k1| alpha < flat_curvature) pair with any flat source point under any in-plane slide, so they
 // flood the vote space with sliding transforms (as Mitra et al. note, pruning low-curvature points): they vote only
-// when fewer than `min_curved_fraction` of the target points are curved. Each vote is embedded without angle
-// wrap-around as the 13-vector
-//   [w_R vec(R), w_t (t - c) / diag, w_s log s]
-// (chordal rotation distance; c and diag the centre and diagonal of the source and target boxes together).
+// when fewer than `min_curved_fraction` of the target points are curved. Each vote is embedded as the 13-vector of
+// nodes/core/analogy.h, with the weights rotation_weight, translation_weight and scale_weight.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "nodes/core/analogy.h"
 #include "nodes/core/point_set.h"
 #include "nodes/core/similarity.h"
 
@@ -36,20 +35,6 @@ struct VoteOptions {
   double scale_weight = 2.0;          // w_s (log scale); > 0
   std::uint64_t seed = 1;
 };
-
-using VoteMatrix = Eigen::Matrix<double, 13, Eigen::Dynamic>;
-
-struct VoteResult {
-  VoteMatrix embedding;             // 13 by V
-  std::vector<std::int32_t> voter;  // target sample of each vote
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  double diagonal = 1.0;
-  Index pairs = 0;
-};
-
-// Embedding of a transform, and back (rotation projected to SO(3)).
-Eigen::Matrix<double, 13, 1> embed(const Similarity& q, const VoteResult& frame, const VoteOptions& o);
-Similarity unembed(const Eigen::Matrix<double, 13, 1>& x, const VoteResult& frame, const VoteOptions& o);
 
 // source and target need normals, curvatures and directions (the features node). `spacing` is the sample spacing
 // alpha. Throws InputError when either has no features.

@@ -37,10 +37,10 @@ Analogy run(const PointSet& source_mesh, const PointSet& target_mesh, double spa
   VoteOptions vo;
   vo.allow_scale = allow_scale;
   const VoteResult votes = vote(a.source, a.target, spacing, vo);
-  const ModesResult modes = find_modes(votes, vo, {});
+  const ModesResult modes = find_modes(votes, {});
   SupportOptions so;
   so.allow_scale = allow_scale;
-  a.transforms = grow_supports(a.source, a.target, modes.modes, spacing, mode_accuracy(votes, vo, {}), so).transforms;
+  a.transforms = grow_supports(a.source, a.target, modes.modes, spacing, mode_accuracy(votes, {}), so).transforms;
   a.labels = label_target(a.source, a.target, a.transforms, spacing, {});
   if (std::getenv("SCANFILL_DEBUG"))
     std::printf("source %ld target %ld votes %ld modes %zu transforms %zu energy %g -> %g\n", long(a.source.size()),

@@ -27,7 +27,6 @@ VoteResult synthetic_votes(const std::vector<Cluster>& clusters, double sigma, I
   VoteResult r;
   r.center = Eigen::Vector3d(0.5, 0.5, 0.5);
   r.diagonal = 2.0;
-  const VoteOptions o;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0, sigma);
   std::uniform_real_distribution<double> u(-3, 3);
@@ -36,7 +35,7 @@ VoteResult synthetic_votes(const std::vector<Cluster>& clusters, double sigma, I
   r.embedding.resize(13, total);
   Index v = 0;
   for (const auto& c : clusters) {
-    const Eigen::Matrix<double, 13, 1> x = embed(c.centre, r, o);
+    const Eigen::Matrix<double, 13, 1> x = embed(c.centre, r);
     for (Index k = 0; k < c.votes; ++k, ++v) {
       for (int d = 0; d < 13; ++d) r.embedding(d, v) = x(d) + noise(rng);
       r.voter.push_back(c.first_voter + std::int32_t(k / 2));
@@ -65,7 +64,7 @@ void expect_near(const Similarity& got, const Similarity& want, const std::strin
 
 TEST(Modes, FindsTheKnownCentresRankedByVotes) {
   const VoteResult votes = synthetic_votes(kClusters, 0.02, 300, 1);
-  const ModesResult r = find_modes(votes, {}, {});
+  const ModesResult r = find_modes(votes, {});
   ASSERT_EQ(r.modes.size(), 3u);  // background seeds gather far fewer than min_votes
   EXPECT_GT(r.seeds, 3);
   // By decreasing votes: the 300, 200 and 100 clusters; every vote of a cluster lies within the bandwidth of its mode.
@@ -83,7 +82,7 @@ TEST(Modes, FindsTheKnownCentresRankedByVotes) {
 }
 
 TEST(Modes, TheRotationOfAModeIsARotation) {
-  const ModesResult r = find_modes(synthetic_votes(kClusters, 0.05, 0, 2), {}, {});
+  const ModesResult r = find_modes(synthetic_votes(kClusters, 0.05, 0, 2), {});
   ASSERT_EQ(r.modes.size(), 3u);
   for (const Mode& m : r.modes) {
     EXPECT_NEAR(m.transform.rotation.determinant(), 1.0, 1e-9);
@@ -95,12 +94,12 @@ TEST(Modes, MaxModesKeepsTheStrongest) {
   const VoteResult votes = synthetic_votes(kClusters, 0.02, 300, 3);
   ModesOptions o;
   o.max_modes = 2;
-  const ModesResult r = find_modes(votes, {}, o);
+  const ModesResult r = find_modes(votes, o);
   ASSERT_EQ(r.modes.size(), 2u);
   EXPECT_EQ(r.modes[0].votes, 300);
   EXPECT_EQ(r.modes[1].votes, 200);
   o.max_modes = 1;
-  const ModesResult one = find_modes(votes, {}, o);
+  const ModesResult one = find_modes(votes, o);
   ASSERT_EQ(one.modes.size(), 1u);
   expect_near(one.modes[0].transform, kClusters[1].centre, "strongest");
 }
@@ -109,14 +108,14 @@ TEST(Modes, MinVotesDropsWeakModes) {
   const VoteResult votes = synthetic_votes(kClusters, 0.02, 300, 4);
   ModesOptions o;
   o.min_votes = 150;
-  const ModesResult r = find_modes(votes, {}, o);
+  const ModesResult r = find_modes(votes, o);
   ASSERT_EQ(r.modes.size(), 2u);
   EXPECT_EQ(r.modes[0].votes, 300);
   EXPECT_EQ(r.modes[1].votes, 200);
   // min_votes 1: every background vote alone is a mode of its own too (they are far apart in 13-D).
   o.min_votes = 1;
   o.max_modes = 1000;
-  EXPECT_EQ(find_modes(votes, {}, o).modes.size(), 3u + 300u);
+  EXPECT_EQ(find_modes(votes, o).modes.size(), 3u + 300u);
 }
 
 TEST(Modes, CentresCloserThanTheBandwidthBecomeOneMode) {
@@ -125,7 +124,7 @@ TEST(Modes, CentresCloserThanTheBandwidthBecomeOneMode) {
   Similarity b = a;
   b.translation.x() += 0.1 * 2.0 / 8.0;
   const VoteResult votes = synthetic_votes({{a, 100, 0}, {b, 100, 1000}}, 0.01, 0, 5);
-  const ModesResult r = find_modes(votes, {}, {});
+  const ModesResult r = find_modes(votes, {});
   ASSERT_EQ(r.modes.size(), 1u);
   EXPECT_EQ(r.modes[0].votes, 200);
   Similarity mid = a;
@@ -133,24 +132,24 @@ TEST(Modes, CentresCloserThanTheBandwidthBecomeOneMode) {
   expect_near(r.modes[0].transform, mid, "merged");
   // Far apart (0.6 > bandwidth) they stay two.
   b.translation.x() = a.translation.x() + 0.6 * 2.0 / 8.0;
-  EXPECT_EQ(find_modes(synthetic_votes({{a, 100, 0}, {b, 100, 1000}}, 0.01, 0, 6), {}, {}).modes.size(), 2u);
+  EXPECT_EQ(find_modes(synthetic_votes({{a, 100, 0}, {b, 100, 1000}}, 0.01, 0, 6), {}).modes.size(), 2u);
 }
 
 TEST(Modes, MaxSeedsBoundsTheSeeds) {
   const VoteResult votes = synthetic_votes(kClusters, 0.02, 300, 7);
   ModesOptions o;
   o.max_seeds = 5;
-  EXPECT_EQ(find_modes(votes, {}, o).seeds, 5);
+  EXPECT_EQ(find_modes(votes, o).seeds, 5);
   o.max_seeds = 100000;
   // Every background vote sits in a bin of its own: at least 300 bins, plus the clusters' few.
-  const Index all = find_modes(votes, {}, o).seeds;
+  const Index all = find_modes(votes, o).seeds;
   EXPECT_GE(all, 303);
   EXPECT_LE(all, 300 + 600);
 }
 
 TEST(Modes, NoVotesNoModes) {
   VoteResult none;
-  const ModesResult r = find_modes(none, {}, {});
+  const ModesResult r = find_modes(none, {});
   EXPECT_TRUE(r.modes.empty());
   EXPECT_EQ(r.seeds, 0);
 }
@@ -158,11 +157,10 @@ TEST(Modes, NoVotesNoModes) {
 TEST(Modes, AccuracyIsTheBandwidthInModelUnits) {
   VoteResult votes;
   votes.diagonal = 2.0;
-  VoteOptions vo;
-  vo.translation_weight = 8.0;
+  votes.weights.translation = 8.0;
   ModesOptions o;
   o.bandwidth = 0.25;
-  EXPECT_DOUBLE_EQ(mode_accuracy(votes, vo, o), 0.0625);  // 0.25 of the embedding = 0.25 / 8 diagonals
+  EXPECT_DOUBLE_EQ(mode_accuracy(votes, o), 0.0625);  // 0.25 of the embedding = 0.25 / 8 diagonals
 }
 
 }  // namespace

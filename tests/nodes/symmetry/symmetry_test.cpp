@@ -83,7 +83,6 @@ TEST(Symmetry, DisabledFindsNothing) {
 TEST(Symmetry, TheQuotientMakesARingOfEquivalentMotionsOneVote) {
   // Votes of the family G_theta o Q0, for a source symmetric about the z axis through c: all the same after it.
   VoteResult votes;
-  VoteOptions vo;
   votes.center = Eigen::Vector3d(0.1, 0, 0);
   votes.diagonal = 2;
   const Eigen::Vector3d c(0.2, -0.1, 0.3);
@@ -93,9 +92,9 @@ TEST(Symmetry, TheQuotientMakesARingOfEquivalentMotionsOneVote) {
   for (int i = 0; i < 24; ++i) {
     const Eigen::Matrix3d R = Eigen::AngleAxisd(i * 0.26, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const Similarity g{R, c - R * c, 1.0};
-    votes.embedding.col(i) = embed(g.compose(q0), votes, vo);
+    votes.embedding.col(i) = embed(g.compose(q0), votes);
   }
-  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0}, vo);
+  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0});
   for (int i = 1; i < 24; ++i) EXPECT_LT((votes.embedding.col(i) - votes.embedding.col(0)).norm(), 1e-9) << i;
 }
 
@@ -103,18 +102,17 @@ TEST(Symmetry, TheQuotientMakesARingOfFlipsOneVoteToo) {
   // G_theta o F for a flip F (a half turn about a horizontal axis): every member is as far from the identity, so the
   // tie is broken by a reference direction; the ring must still collapse.
   VoteResult votes;
-  VoteOptions vo;
   const Eigen::Vector3d c(0.1, 0.2, 0.0);
   const Similarity flip{Eigen::AngleAxisd(M_PI, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix(),
                         Eigen::Vector3d(0.55, 0, 0.15), 1.0};
   votes.embedding.resize(13, 24);
   for (int i = 0; i < 24; ++i) {
     const Eigen::Matrix3d R = Eigen::AngleAxisd(i * 0.26, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    votes.embedding.col(i) = embed(Similarity{R, c - R * c, 1.0}.compose(flip), votes, vo);
+    votes.embedding.col(i) = embed(Similarity{R, c - R * c, 1.0}.compose(flip), votes);
   }
-  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0}, vo);
+  quotient_votes(votes, SymmetryAxis{c, Eigen::Vector3d::UnitZ(), 0});
   for (int i = 1; i < 24; ++i) EXPECT_LT((votes.embedding.col(i) - votes.embedding.col(0)).norm(), 1e-9) << i;
-  EXPECT_TRUE(is_axis_rotation(unembed(votes.embedding.col(0), votes, vo).rotation, 1e-6));
+  EXPECT_TRUE(is_axis_rotation(unembed(votes.embedding.col(0), votes).rotation, 1e-6));
 }
 
 TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
@@ -122,11 +120,11 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   const PointSet box = samples_of(make_crate_template(), alpha);
   const SymmetryResult r = find_symmetries(box, alpha, {});
   // One found transform: the identity, supported on the box's -y face.
-  SupportResult found;
+  std::vector<SupportedTransform> found;
   SupportedTransform id;
   for (Index t = 0; t < box.size(); ++t)
     if (box.normals().col(t).y() < -0.9) id.support.push_back(std::int32_t(t));
-  found.transforms.push_back(id);
+  found.push_back(id);
   const std::vector<Mode> modes = composed_candidates(found, r, box, {});
   ASSERT_EQ(modes.size(), r.rotations.size());
   int faces_reached = 0;

@@ -80,7 +80,7 @@ struct Near {
   std::set<std::int32_t> voters;
 };
 Near near(const VoteResult& r, const Similarity& q, const VoteOptions& o, double radius) {
-  const Eigen::Matrix<double, 13, 1> x = embed(q, r, o);
+  const Eigen::Matrix<double, 13, 1> x = embed(q, r);
   Near out;
   for (Index v = 0; v < r.embedding.cols(); ++v)
     if ((r.embedding.col(v) - x).norm() < radius) {
@@ -120,7 +120,7 @@ TEST(Vote, TheKnownTransformIsTheDensestVoteCluster) {
   const Index at_truth = near(r, kG.inverse(), o, bandwidth).votes;
   EXPECT_EQ(at_truth, 400);  // random wrong votes do not fall near it either
   // No wrong vote has a tenth of that many votes around it.
-  const auto truth = embed(kG.inverse(), r, o);
+  const auto truth = embed(kG.inverse(), r);
   Index densest_elsewhere = 0;
   for (Index v = 0; v < r.embedding.cols(); v += 3) {
     if ((r.embedding.col(v) - truth).norm() < 2 * bandwidth) continue;
@@ -158,7 +158,7 @@ TEST(Vote, ScalesOutsideTheRangeAreNotVotedFor) {
   const VoteResult r = vote(S, T, alpha, o);
   EXPECT_EQ(near(r, g.inverse(), o, 1e-6).votes, 0);
   for (Index v = 0; v < r.embedding.cols(); ++v) {
-    const double s = unembed(r.embedding.col(v), r, o).scale;
+    const double s = unembed(r.embedding.col(v), r).scale;
     EXPECT_GE(s, o.min_scale * (1 - 1e-12));
     EXPECT_LE(s, o.max_scale * (1 + 1e-12));
   }
@@ -168,7 +168,7 @@ TEST(Vote, ScalesOutsideTheRangeAreNotVotedFor) {
 
 // Votes whose rotation is R (the first nine embedding coordinates), whatever their translation and scale.
 Index with_rotation(const VoteResult& r, const Eigen::Matrix3d& R, const VoteOptions& o) {
-  const Eigen::Matrix<double, 13, 1> x = embed(Similarity{R, Eigen::Vector3d::Zero(), 1}, r, o);
+  const Eigen::Matrix<double, 13, 1> x = embed(Similarity{R, Eigen::Vector3d::Zero(), 1}, r);
   Index n = 0;
   for (Index v = 0; v < r.embedding.cols(); ++v) n += (r.embedding.col(v).head<9>() - x.head<9>()).norm() < 1e-6;
   return n;
@@ -267,8 +267,7 @@ TEST(Vote, TheEmbeddingFrameIsTheBoxOfBothShapes) {
   EXPECT_DOUBLE_EQ(r.diagonal, 2 * std::sqrt(3.0));
   // One pair, two rotations (d1 and -d1); both translate T's point onto S's.
   ASSERT_EQ(r.pairs, 2);
-  for (Index v = 0; v < 2; ++v)
-    EXPECT_LT(unembed(r.embedding.col(v), r, {}).apply(Eigen::Vector3d(2, 2, 2)).norm(), 1e-12);
+  for (Index v = 0; v < 2; ++v) EXPECT_LT(unembed(r.embedding.col(v), r).apply(Eigen::Vector3d(2, 2, 2)).norm(), 1e-12);
 }
 
 TEST(Vote, EmbeddingDistancesAreChordalRotationScaledTranslationAndLogScale) {
@@ -280,18 +279,18 @@ TEST(Vote, EmbeddingDistancesAreChordalRotationScaledTranslationAndLogScale) {
   // Rotation: the Frobenius (chordal) distance 2 sqrt(2) sin(theta / 2).
   Similarity b = a;
   b.rotation = rot(0.8, Eigen::Vector3d(0, 1, 0)) * a.rotation;
-  EXPECT_NEAR((embed(a, frame, o) - embed(b, frame, o)).norm(), o.rotation_weight * 2 * std::sqrt(2.0) * std::sin(0.4),
+  EXPECT_NEAR((embed(a, frame) - embed(b, frame)).norm(), o.rotation_weight * 2 * std::sqrt(2.0) * std::sin(0.4),
               1e-12);
   // Translation: w_t |dt| / diagonal.
   Similarity c = a;
   c.translation += Eigen::Vector3d(0.3, 0.4, 0);
-  EXPECT_NEAR((embed(a, frame, o) - embed(c, frame, o)).norm(), o.translation_weight * 0.5 / 4.0, 1e-12);
+  EXPECT_NEAR((embed(a, frame) - embed(c, frame)).norm(), o.translation_weight * 0.5 / 4.0, 1e-12);
   // Scale: w_s |log(s_a / s_d)|.
   Similarity d = a;
   d.scale = 3.0;
-  EXPECT_NEAR((embed(a, frame, o) - embed(d, frame, o)).norm(), o.scale_weight * std::log(2.0), 1e-12);
+  EXPECT_NEAR((embed(a, frame) - embed(d, frame)).norm(), o.scale_weight * std::log(2.0), 1e-12);
   // Round trip.
-  const Similarity back = unembed(embed(a, frame, o), frame, o);
+  const Similarity back = unembed(embed(a, frame), frame);
   EXPECT_LT((back.rotation - a.rotation).norm(), 1e-12);
   EXPECT_LT((back.translation - a.translation).norm(), 1e-12);
   EXPECT_NEAR(back.scale, a.scale, 1e-12);
