@@ -297,10 +297,10 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& a, CommonFlags& common) {
 }
 
 // The main run: the pipeline a config file describes.
-int run_config(const std::string& config_path, int threads) {
+int run_config(const std::string& config_path, const std::vector<std::string>& overrides, int threads) {
   RunConfig config;
   try {
-    config = load_config(config_path);
+    config = load_config(config_path, overrides);
   } catch (const ConfigError& e) {
     return fail(e.what(), 2);
   }
@@ -332,6 +332,11 @@ int main(int argc, char** argv) {
   CommonFlags common;
   app.add_option("--config", config_path, "run the pipeline configured by this YAML file")->check(CLI::ExistingFile);
   app.add_flag("--print-defaults", print_defaults, "print a complete config with every option and its default");
+  std::vector<std::string> overrides;
+  app.add_option("--set", overrides,
+                 "KEY=VALUE: override a config key, e.g. --set sample.count=40000 --set preset=paper (repeatable)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_common_flags(&app, common);
   InfoArgs info;
   SampleArgs samp;
@@ -372,11 +377,12 @@ int main(int argc, char** argv) {
       return with_threads(common.threads, [&] {
         return run_sample(samp.input, samp.output, samp.spacing, samp.count, samp.seed, samp.k);
       });
+    if (config_path.empty() && !overrides.empty()) return fail("--set needs --config FILE", 2);
     if (config_path.empty()) {
       std::cerr << app.help() << std::endl;
       return fail("nothing to do: give --config FILE, --print-defaults or a subcommand", 2);
     }
-    return run_config(config_path, common.threads);
+    return run_config(config_path, overrides, common.threads);
   } catch (const ConfigError& e) {
     return fail(e.what(), 2);
   } catch (const Error& e) {

@@ -40,11 +40,16 @@ class Problems {
   explicit Problems(std::filesystem::path file) : file_(std::move(file)) {}
   void add(const YAML::Mark& mark, const std::string& key, const std::string& what) {
     std::ostringstream s;
-    s << file_.string();
-    if (mark.line >= 0) s << ":" << mark.line + 1 << ":" << mark.column + 1;
+    if (const auto it = overridden_.find(key); it != overridden_.end()) {
+      s << "--set " << it->second;  // a value from the command line: no place in the file
+    } else {
+      s << file_.string();
+      if (mark.line >= 0) s << ":" << mark.line + 1 << ":" << mark.column + 1;
+    }
     s << ": " << key << ": " << what;
     lines_.push_back(s.str());
   }
+  void overridden(const std::string& key, const std::string& text) { overridden_[key] = text; }
   void remember(const std::string& key, const YAML::Mark& mark) { marks_[key] = mark; }
   YAML::Mark mark_of(const std::string& key) const {
     const auto it = marks_.find(key);
@@ -57,6 +62,7 @@ class Problems {
   std::filesystem::path file_;
   std::vector<std::string> lines_;
   std::map<std::string, YAML::Mark> marks_;
+  std::map<std::string, std::string> overridden_;  // key -> "KEY=VALUE" as given to --set
 };
 
 std::string describe(const YAML::Node& n) {
@@ -403,7 +409,38 @@ bool takes_fragments(Role role) {
   return role == Role::kScan || role == Role::kExemplar;
 }
 
-RunConfig load_config(const std::filesystem::path& path) {
+namespace {
+
+// --set KEY=VALUE: VALUE (read as YAML: a number, a word, a list [a, b]) replaces or adds the key, one level of
+// section at most (sample.count, preset, inputs.scan).
+void apply_override(YAML::Node& root, const std::string& text, Problems& problems) {
+  const size_t eq = text.find('=');
+  const std::string key = text.substr(0, eq);
+  const size_t dot = key.find('.');
+  const bool well_formed =
+      eq != std::string::npos && eq > 0 && eq + 1 < text.size() &&
+      (dot == std::string::npos || (dot > 0 && dot + 1 < key.size() && key.find('.', dot + 1) == std::string::npos));
+  if (!well_formed) throw ConfigError("--set " + text + ": expected KEY=VALUE with KEY a key or SECTION.KEY");
+  YAML::Node value;
+  try {
+    value = YAML::Load(text.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("--set " + text + ": invalid value: " + e.msg);
+  }
+  problems.overridden(key, text);
+  if (dot == std::string::npos) {
+    root[key] = value;
+    return;
+  }
+  const std::string section = key.substr(0, dot);
+  if (root[section] && !root[section].IsMap())
+    throw ConfigError("--set " + text + ": " + section + " is not a section of the config");
+  root[section][key.substr(dot + 1)] = value;
+}
+
+}  // namespace
+
+RunConfig load_config(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw ConfigError(path.string() + ": no such config file");
   YAML::Node root;
@@ -421,6 +458,7 @@ RunConfig load_config(const std::filesystem::path& path) {
     problems.add(root.Mark(), "(top level)", "expected a map of settings, got " + describe(root));
     throw ConfigError(problems.message());
   }
+  for (const std::string& text : overrides) apply_override(root, text, problems);
   std::vector<std::string> top{"mode", "inputs", "output", "threads", "preset"};
   for (const Section& section : option_sections(config)) top.push_back(section.key);
   check_map(root, "", top, problems);

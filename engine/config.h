@@ -79,7 +79,8 @@ const Input& input_for(const RunConfig& config, Role role);
 
 // Reads and validates a config file. Throws ConfigError whose message lists every problem, one per line, each as
 // "FILE:LINE:COLUMN: dotted.key: problem".
-RunConfig load_config(const std::filesystem::path& path);
+// `overrides`: KEY=VALUE texts (the command line's --set), applied over the file's keys before any check.
+RunConfig load_config(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
 
 // Pure validation of a config (ranges, mode, inputs). Returns (dotted key, problem) pairs; empty when valid.
 std::vector<std::pair<std::string, std::string>> validate(const RunConfig& config);

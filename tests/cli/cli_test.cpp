@@ -2,6 +2,8 @@
 // every file of ../shared/data.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <nlohmann/json.hpp>
 
 #include "test_util.h"
@@ -95,6 +97,39 @@ TEST(Cli, BadInputsExitNonZeroWithOneLineAndWriteNothing) {
   // Runtime errors are a single line.
   const auto r = run_scanfill("info " + q(dir / "empty.ply"));
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Cli, SetOverridesAnyConfigKeyAndErrorsNameIt) {
+  test::TempDir dir;
+  const std::string config = q(std::filesystem::path(SCANFILL_SOURCE_DIR) / "configs" / "analogy_l.yaml");
+  // A run with two keys overridden: the output folder and the sample spacing.
+  const auto ok =
+      run_scanfill("--config " + config + " --set output.dir=" + q(dir / "out") + " --set sample.spacing=0.05 -q");
+  ASSERT_EQ(ok.exit_code, 0) << ok.out;
+  std::ifstream in(dir / "out" / "report.json");
+  const auto report = nlohmann::json::parse(in);
+  // The measured mean spacing of samples drawn at 0.05 (the file says 0.025).
+  EXPECT_NEAR(report["inputs"]["source"]["spacing"].get<double>(), 0.05, 0.01);
+  struct Case {
+    std::string args, message;
+    int exit_code;
+  } cases[] = {
+      {"--set sample.count=abc", "--set sample.count=abc: sample.count: expected an integer, got 'abc'", 2},
+      {"--set sample.cuont=3", "--set sample.cuont=3: sample.cuont: unknown key", 2},
+      {"--set preset=papers", "--set preset=papers: preset: expected scanfill or paper, got 'papers'", 2},
+      {"--set sample", "--set sample: expected KEY=VALUE", 2},
+      {"--set a.b.c=1", "--set a.b.c=1: expected KEY=VALUE", 2},
+      {"--set mode.x=1", "--set mode.x=1: mode is not a section of the config", 2},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_scanfill("--config " + config + " --set output.dir=" + q(dir / "bad") + " " + c.args);
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad")) << c.args;
+  }
+  const auto alone = run_scanfill("--set preset=paper");
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_NE(alone.out.find("--set needs --config FILE"), std::string::npos) << alone.out;
 }
 
 TEST(Cli, ScanWritesASingleViewAndRefusesBadOptions) {
