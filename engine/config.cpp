@@ -304,7 +304,15 @@ void read_threads_and_output(const YAML::Node& root, RunConfig& config, Problems
     if (!scalar_as(n, config.threads))
       problems.add(n.Mark(), "threads", "expected an integer >= 0, got " + describe(n));
   }
-  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir"}, problems)) {
+  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir", "colour"}, problems)) {
+    if (const YAML::Node c = n["colour"]) {
+      std::string colour;
+      problems.remember("output.colour", c.Mark());
+      if (scalar_as(c, colour) && (colour == "origin" || colour == "label"))
+        config.colour_by_label = colour == "label";
+      else
+        problems.add(c.Mark(), "output.colour", "expected origin or label, got " + describe(c));
+    }
     if (const YAML::Node d = n["dir"]) {
       std::string dir;
       problems.remember("output.dir", d.Mark());
@@ -490,6 +498,8 @@ std::string default_config_yaml() {
     << "  template: procedural:vase_template\n"
     << "output:\n"
     << "  dir: out                  # created if missing; relative to the working directory\n"
+    << "  colour: origin            # output.ply's RGB: origin (scan grey, synthesised orange, copied blue)\n"
+    << "                            # or label (one colour per transform, as analogy.ply)\n"
     << "threads: 0                  # worker threads; 0 = all cores (the --threads option overrides it)\n";
   for (const Section& section : option_sections(config)) {
     s << section.key << ":" << std::string(std::max<int>(1, 28 - int(section.key.size()) - 1), ' ') << "# "

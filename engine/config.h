@@ -48,6 +48,7 @@ struct RunConfig {
   RunMode mode = RunMode::kCompletion;
   std::vector<Input> inputs;                 // in the mode's role order
   std::filesystem::path output_dir = "out";  // created if missing; relative to the working directory
+  bool colour_by_label = false;              // output.ply's RGB: by origin (false) or by transform label (true)
   int threads = 0;                           // 0 = all cores
   std::string preset = "scanfill";           // the parameter set the sections start from: scanfill | paper
   LoadOptions load;

@@ -57,6 +57,15 @@ std::array<double, 3> label_colour(int label, int self_label) {
   return rgb;
 }
 
+// output.ply's colour of a point: by origin (scan or exemplar grey, synthesised orange, copied blue), or by label
+// (as analogy.ply; the scan's own points grey).
+std::array<double, 3> output_colour(Origin origin, int label, int self_label, bool by_label) {
+  if (origin == Origin::kExemplar) return {190, 190, 190};
+  if (by_label) return label_colour(label, self_label);
+  if (origin == Origin::kSynthesized) return {235, 130, 35};
+  return {60, 120, 225};
+}
+
 // samples_ROLE.ply per input; the report's inputs.
 nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
   const RunConfig& config = state.config;
@@ -87,15 +96,22 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
 // output.ply; the report's output, synthesis, correspondence and align.
 void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
   const TransferResult& o = t.output;
-  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
+  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end()), rgb[3];
+  const int self_label = t.aligned->synthesized->analogy->labels.self_label;
   Index by_origin[3] = {0, 0, 0};
   for (size_t i = 0; i < o.origin.size(); ++i) {
     origin[i] = double(int(o.origin[i]));
     ++by_origin[int(o.origin[i])];
+    const auto c = output_colour(o.origin[i], o.label[i], self_label, state.config.colour_by_label);
+    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
   }
   const std::filesystem::path out = state.write_dir / "output.ply";
   write_ply(out, o.points,
-            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
+            {{"origin", PlyProperty::Type::kUint8, origin},
+             {"label", PlyProperty::Type::kInt32, label},
+             {"red", PlyProperty::Type::kUint8, rgb[0]},
+             {"green", PlyProperty::Type::kUint8, rgb[1]},
+             {"blue", PlyProperty::Type::kUint8, rgb[2]}});
   outcome.outputs.push_back(out);
   report["output"] = {{"points", o.points.size()},
                       {"faces", o.points.faces().cols()},
@@ -184,7 +200,8 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
       << o["synthesized_points"].get<Index>() << " synthesised by " << used << " transforms, "
       << o["copied_points"].get<Index>() << " copied from the " << (completion ? "template" : "target") << ")\n"
       << "  output.ply: vertex 'origin' 0 = " << (completion ? "scan" : "exemplar")
-      << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json)\n"
+      << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json); RGB by "
+      << (config.colour_by_label ? "label" : "origin (scan grey, synthesised orange, copied blue)") << "\n"
       << "  analogy.ply: the " << (completion ? "template" : "target")
       << " samples coloured by transform (grey = self-reference)\n"
       << "  score it: scanfill eval --output " << (config.output_dir / "output.ply").string() << " --reference "

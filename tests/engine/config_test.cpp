@@ -146,6 +146,16 @@ TEST(Config, ThePaperPresetSetsThePapersValuesAndKeysStillOverrideIt) {
   EXPECT_NE(e.find("c.yaml:5:9: preset: expected scanfill or paper, got 'papers'"), std::string::npos) << e;
 }
 
+TEST(Config, OutputColourIsByOriginOrByLabel) {
+  test::TempDir dir;
+  test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "output:\n  colour: label\n");
+  EXPECT_TRUE(load_config(dir / "c.yaml").colour_by_label);
+  test::write_bytes(dir / "d.yaml", kValidHead);
+  EXPECT_FALSE(load_config(dir / "d.yaml").colour_by_label);
+  const std::string e = config_error(dir, std::string(kValidHead) + "output:\n  colour: rainbow\n");
+  EXPECT_NE(e.find("c.yaml:6:11: output.colour: expected origin or label, got 'rainbow'"), std::string::npos) << e;
+}
+
 TEST(Config, AScanMayBeAListOfFragmentsAndEachIsChecked) {
   test::TempDir dir;
   test::write_bytes(dir / "a.xyz", "0 0 0\n");

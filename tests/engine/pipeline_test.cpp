@@ -46,9 +46,11 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
        {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template",
         "correspond", "cover", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
     EXPECT_TRUE(names.count(n)) << n;
-  // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label.
+  // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label, then the colour viewers show (issue 14).
   const std::string ply = test::read_bytes(dir / "out" / "output.ply");
-  EXPECT_NE(ply.find("property float nz\nproperty uchar origin\nproperty int label\n"), std::string::npos);
+  EXPECT_NE(ply.find("property float nz\nproperty uchar origin\nproperty int label\n"
+                     "property uchar red\nproperty uchar green\nproperty uchar blue\n"),
+            std::string::npos);
   const LoadResult out = read_point_set(dir / "out" / "output.ply");
   EXPECT_EQ(out.points.size(), report["output"]["points"].get<Index>());
   EXPECT_GT(report["output"]["exemplar_points"].get<Index>(), 0);
