@@ -10,6 +10,8 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/io/write_ply.h"
+#include "nodes/io/write_png.h"
+#include "nodes/render/render.h"
 
 namespace scanfill {
 namespace {
@@ -167,6 +169,56 @@ nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcom
   return list;
 }
 
+Rgb rgb_of(const std::array<double, 3>& c) {
+  return {std::uint8_t(c[0]), std::uint8_t(c[1]), std::uint8_t(c[2])};
+}
+
+// The inputs' side of the preview: the scan (or exemplar, or source) in grey and the target samples coloured by
+// transform as in analogy.ply.
+std::vector<PreviewPanel> input_panels(const RunState& state) {
+  const RunConfig& config = state.config;
+  const Role first = config.mode == RunMode::kCompletion ? Role::kScan
+                     : config.mode == RunMode::kTransfer ? Role::kExemplar
+                                                         : Role::kSource;
+  std::vector<PreviewPanel> panels;
+  for (size_t slot = 0; slot < config.inputs.size(); ++slot)
+    if (config.inputs[slot].role == first) {
+      const Featured& f = *state.inputs()[slot];
+      panels.push_back({&f.features.points, {Rgb{190, 190, 190}}, f.sampled->sample.spacing});
+    }
+  if (const LabelledPtr& a = state.analogy()) {
+    const Featured& target = *a->votes().target();
+    PreviewPanel labelled{&target.features.points, {}, target.sampled->sample.spacing};
+    for (const int l : a->labels.labels) labelled.colours.push_back(rgb_of(label_colour(l, a->labels.self_label)));
+    panels.push_back(std::move(labelled));
+  }
+  return panels;
+}
+
+// preview.png: the inputs, the analogy and the output side by side, seen from the scan's side (the virtual scanner's
+// eye, or the scan's own viewpoint) and from the opposite one.
+void write_preview(const RunState& state, RunOutcome& outcome) {
+  const RunConfig& config = state.config;
+  std::vector<PreviewPanel> panels = input_panels(state);
+  if (panels.empty()) return;
+  if (const TransferredPtr& t = state.output()) {
+    const TransferResult& o = t->output;
+    const int self_label = t->aligned->synthesized->analogy->labels.self_label;
+    // The output's spacing from the samples': as many points on the same surface.
+    const double spacing = panels.back().spacing * std::sqrt(double(panels.back().points->size()) /
+                                                             double(std::max<Index>(o.points.size(), 1)));
+    PreviewPanel out{&o.points, {}, spacing};
+    for (size_t i = 0; i < o.origin.size(); ++i)
+      out.colours.push_back(rgb_of(output_colour(o.origin[i], o.label[i], self_label, config.colour_by_label)));
+    panels.push_back(std::move(out));
+  }
+  std::optional<Eigen::Vector3d> eye = config.virtual_scan.eye;
+  if (!eye && config.mode == RunMode::kCompletion) eye = state.inputs()[0]->sampled->loaded->load.points.viewpoint();
+  const std::filesystem::path path = state.write_dir / "preview.png";
+  write_png(path, preview_image(panels, panels.size() - 1, eye));
+  outcome.outputs.push_back(path);
+}
+
 // The symmetries found and the candidates they gave (DESIGN section 9).
 nlohmann::json symmetry_json(const Labelled& a) {
   const auto axes = [](const SymmetryResult& sym) {
@@ -204,12 +256,14 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
       << (config.colour_by_label ? "label" : "origin (scan grey, synthesised orange, copied blue)") << "\n"
       << "  analogy.ply: the " << (completion ? "template" : "target")
       << " samples coloured by transform (grey = self-reference)\n"
+      << "  preview.png: the inputs, the analogy and the output, from the scan's side (top) and the other (bottom)\n"
       << "  score it: scanfill eval --output " << (config.output_dir / "output.ply").string() << " --reference "
       << (completion && config.virtual_scan.eye ? input_name(input_for(config, Role::kScan).spec) : "COMPLETE_MODEL")
       << "\n";
   } else {
     s << "scanfill: analogy of " << config.inputs.size()
-      << " inputs: analogy.ply holds the target samples coloured by transform (grey = self-reference)\n";
+      << " inputs: analogy.ply holds the target samples coloured by transform (grey = self-reference)\n"
+      << "  preview.png: the source and the labelled target, from the front (top) and the back (bottom)\n";
   }
   return s.str();
 }
@@ -229,6 +283,7 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
     energy = {{"before", state.analogy()->labels.energy_before}, {"after", state.analogy()->labels.energy_after}};
     report["symmetry"] = symmetry_json(*state.analogy());
   }
+  write_preview(state, outcome);
   state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
   nlohmann::json node_list = nlohmann::json::array();

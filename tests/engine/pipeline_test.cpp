@@ -28,7 +28,8 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
   const RunOutcome outcome = run(small_config(dir / "out"));
-  ASSERT_EQ(outcome.outputs.size(), 5u);  // samples_scan, samples_template, output, analogy, report
+  ASSERT_EQ(outcome.outputs.size(), 6u);  // samples_scan, samples_template, output, analogy, preview, report
+  EXPECT_EQ(test::read_bytes(dir / "out" / "preview.png").substr(1, 3), "PNG");
   const LoadResult templ = read_point_set(dir / "out" / "samples_template.ply");
   EXPECT_EQ(templ.points.size(), 3000);
   EXPECT_TRUE(templ.points.has_normals());
