@@ -7,7 +7,8 @@ diagonal and unseen-detail recall, beside the two baselines (the scan alone, tem
 scored against the styled target. Prints one JSON line per run and, at the end, a Markdown table per shape (min and
 median of F and unseen-detail, and the baselines' medians).
 
-    python3 bench/robustness.py build [--out DIR] [--only SUBSTRING] [--threads N] [--json FILE] [--preset NAME]
+    python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
+                                      [--set KEY=VALUE]...
 
 Needs ../shared/data for the real cases (skipped with a message when absent).
 """
@@ -128,10 +129,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build")
     ap.add_argument("--out", default="/tmp/scanfill_robustness")
-    ap.add_argument("--only", default="", help="run only cases whose name contains this")
+    ap.add_argument("--only", default="", help="run only cases whose name contains this (several: comma-separated)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--json", default="", help="also write all rows to this file")
     ap.add_argument("--preset", default="scanfill", help="the config's preset key (scanfill or paper)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override a config key in every run (scanfill --set), repeatable")
     ap.add_argument("--run-binary", default="", help="another scanfill for the main run (e.g. an older build to compare)")
     args = ap.parse_args()
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
@@ -153,7 +156,7 @@ def main():
     t_all = time.time()
     for case in cases:
         label = " | ".join(str(x) for x in case[1:] if not str(x).startswith("/"))
-        if args.only and args.only not in label:
+        if args.only and not any(o in label for o in args.only.split(",")):
             continue
         t0 = time.time()
         try:
@@ -166,7 +169,8 @@ def main():
                 name = shape
                 cfg, out_dir = transfer_case(args.out, shape, source, target, exemplar, args.preset)
                 eval_args = ["--reference", styled, "--scan", exemplar, "--template", target, "--baselines"]
-            run([args.run_binary or exe, "--config", cfg, "--threads", str(args.threads), "-q"])
+            overrides = [x for kv in args.set for x in ("--set", kv)]
+            run([args.run_binary or exe, "--config", cfg, "--threads", str(args.threads), "-q"] + overrides)
             row = {"shape": shape, "case": name, **score(exe, out_dir, eval_args, args.threads)}
         except RuntimeError as e:
             row = {"shape": case[1], "case": label, "error": str(e).splitlines()[-1]}
