@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "nodes/core/errors.h"
+#include "nodes/correspond/correspondence_view.h"
 #include "nodes/io/write_ply.h"
 #include "nodes/io/write_png.h"
 #include "nodes/render/render.h"
@@ -93,6 +94,21 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
       inputs[role]["fragments"].push_back(input_name(fragment));
   }
   return inputs;
+}
+
+// correspondence.ply: the exemplar <-> source map, matched samples in the same colour (paper Figures 6 and 13c).
+void write_correspondence(const RunState& state, const Correspondence& c, RunOutcome& outcome) {
+  const CorrespondenceView view = correspondence_view(c.source->features.points, c.map);
+  std::vector<double> side(view.side.begin(), view.side.end()), rgb[3];
+  for (const Rgb& colour : view.colours)
+    for (int k = 0; k < 3; ++k) rgb[k].push_back(colour[size_t(k)]);
+  const std::filesystem::path out = state.write_dir / "correspondence.ply";
+  write_ply(out, view.points,
+            {{"side", PlyProperty::Type::kUint8, side},
+             {"red", PlyProperty::Type::kUint8, rgb[0]},
+             {"green", PlyProperty::Type::kUint8, rgb[1]},
+             {"blue", PlyProperty::Type::kUint8, rgb[2]}});
+  outcome.outputs.push_back(out);
 }
 
 // output.ply; the report's output, synthesis, correspondence and align.
@@ -257,6 +273,8 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
       << "  analogy.ply: the " << (completion ? "template" : "target")
       << " samples coloured by transform (grey = self-reference)\n"
       << "  preview.png: the inputs, the analogy and the output, from the scan's side (top) and the other (bottom)\n"
+      << "  correspondence.ply: the " << (completion ? "template" : "source") << " samples and, beside them, the "
+      << (completion ? "scan" : "exemplar") << "'s, matched samples in the same colour\n"
       << "  score it: scanfill eval --output " << (config.output_dir / "output.ply").string() << " --reference "
       << (completion && config.virtual_scan.eye ? input_name(input_for(config, Role::kScan).spec) : "COMPLETE_MODEL")
       << "\n";
@@ -275,7 +293,10 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
   RunOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
-  if (state.output()) write_output(state, *state.output(), report, outcome);
+  if (state.output()) {
+    write_output(state, *state.output(), report, outcome);
+    write_correspondence(state, *state.output()->aligned->synthesized->correspondence, outcome);
+  }
   nlohmann::json transforms = nlohmann::json::array();
   nlohmann::json energy = nullptr;
   if (state.analogy()) {

@@ -28,7 +28,11 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
   const RunOutcome outcome = run(small_config(dir / "out"));
-  ASSERT_EQ(outcome.outputs.size(), 6u);  // samples_scan, samples_template, output, analogy, preview, report
+  // samples_scan, samples_template, output, correspondence, analogy, preview, report
+  ASSERT_EQ(outcome.outputs.size(), 7u);
+  const std::string map = test::read_bytes(dir / "out" / "correspondence.ply");
+  EXPECT_NE(map.find("property uchar side\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"),
+            std::string::npos);
   EXPECT_EQ(test::read_bytes(dir / "out" / "preview.png").substr(1, 3), "PNG");
   const LoadResult templ = read_point_set(dir / "out" / "samples_template.ply");
   EXPECT_EQ(templ.points.size(), 3000);

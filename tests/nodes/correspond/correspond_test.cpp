@@ -1,6 +1,7 @@
 // correspond: rigid and non-rigid registration, the min-cost-flow assignment against a brute-force oracle, and the
 // refusals of inputs that cannot be registered (issue 4).
 #include "nodes/correspond/correspond.h"
+#include "nodes/correspond/correspondence_view.h"
 
 #include <gtest/gtest.h>
 
@@ -191,6 +192,23 @@ TEST(Correspond, RefusesInputsThatCannotBeRegistered) {
   PointSet ten(Eigen::Matrix3Xd(source.positions().leftCols(10)));
   ten.set_normals(source.normals().leftCols(10));
   EXPECT_NE(message(ten).find("has 10 samples"), std::string::npos) << message(ten);
+}
+
+TEST(CorrespondenceView, MatchedSamplesShareTheColourOfTheirSourceSample) {
+  Eigen::Matrix3Xd source_points(3, 2);
+  source_points << 0, 1, 0, 1, 0, 1;  // (0, 0, 0) and (1, 1, 1): the box's two corners
+  const PointSet source(source_points);
+  CorrespondResult map;
+  map.registered = Eigen::Matrix3Xd::Zero(3, 2);
+  map.exemplar_source = {1, -1};
+  const CorrespondenceView view = correspondence_view(source, map);
+  ASSERT_EQ(view.points.size(), 4);
+  EXPECT_EQ(view.side, (std::vector<std::uint8_t>{0, 0, 1, 1}));
+  EXPECT_EQ(view.colours[0], (Rgb{40, 40, 40}));     // the box's minimum corner
+  EXPECT_EQ(view.colours[1], (Rgb{255, 255, 255}));  // its maximum
+  EXPECT_EQ(view.colours[2], view.colours[1]);       // matched to source sample 1
+  EXPECT_EQ(view.colours[3], (Rgb{150, 150, 150}));  // unmatched: grey
+  EXPECT_GT(view.points.positions()(0, 2), 1.0);     // the exemplar beside the source, not on it
 }
 
 }  // namespace
