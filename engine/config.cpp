@@ -167,6 +167,16 @@ void read_field(const YAML::Node& n, const std::string& key, Field& field, Probl
             if (ok) p->push_back(l);
           }
           if (!ok) bad("a list of landmark pairs [[x, y, z], [x, y, z]] (exemplar point, source point)");
+        } else if constexpr (std::is_same_v<T, LandmarkFiles>) {
+          std::string exemplar, source;
+          if (n.IsNull() || (n.IsSequence() && n.size() == 0)) {
+            *p = {};
+          } else if (n.IsSequence() && n.size() == 2 && scalar_as(n[0], exemplar) && scalar_as(n[1], source) &&
+                     !exemplar.empty() && !source.empty()) {
+            *p = {exemplar, source};
+          } else {
+            bad("two MeshLab picked-points files [SCAN.pp, TEMPLATE.pp] or []");
+          }
         }
       },
       field.ref);
@@ -191,6 +201,11 @@ std::string yaml_value(const FieldRef& ref) {
               << l.source(0) << ", " << l.source(1) << ", " << l.source(2) << "]]";
           }
           s << "]";
+        } else if constexpr (std::is_same_v<T, LandmarkFiles>) {
+          if (p->exemplar.empty())
+            s << "[]";
+          else
+            s << "[" << p->exemplar.string() << ", " << p->source.string() << "]";
         } else if constexpr (std::is_same_v<T, std::optional<Eigen::Vector3d>>) {
           if (!*p)
             s << "~";
@@ -254,6 +269,11 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
   if (config.threads < 0)
     problems.push_back({"threads", "expected an integer >= 0 (0 = all cores), got " + std::to_string(config.threads)});
   if (config.output_dir.empty()) problems.push_back({"output.dir", "expected a folder path"});
+  for (const auto& file : {config.correspond.landmarks_file.exemplar, config.correspond.landmarks_file.source}) {
+    std::error_code ec;
+    if (!file.empty() && !std::filesystem::is_regular_file(file, ec))
+      problems.push_back({"correspond.landmarks_file", "no such file: " + file.string()});
+  }
   std::vector<std::string> roles;
   for (const Role role : roles_for_mode(config.mode)) roles.push_back(role_name(role));
   for (const Role role : roles_for_mode(config.mode)) {
@@ -475,6 +495,9 @@ RunConfig load_config(const std::filesystem::path& path, const std::vector<std::
   read_preset(root, config, problems);
   read_inputs(root, mode_known, path, config, problems);
   read_sections(root, config, problems);
+  for (std::filesystem::path* file :
+       {&config.correspond.landmarks_file.exemplar, &config.correspond.landmarks_file.source})
+    if (!file->empty() && file->is_relative()) *file = path.parent_path() / *file;  // as inputs: beside the config
   // Ranges and inputs of every value that parsed (one that did not keeps its valid default): all problems at once.
   for (const auto& [key, what] : validate(config))
     if (mode_known || key.rfind("inputs", 0) != 0) problems.add(problems.mark_of(key), key, what);

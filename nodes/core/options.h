@@ -22,9 +22,10 @@ namespace scanfill {
 
 enum class NormalOrientation;  // nodes/features
 struct Landmark;               // nodes/correspond
+struct LandmarkFiles;          // nodes/correspond
 
 using FieldRef = std::variant<double*, int*, Index*, std::uint64_t*, bool*, NormalOrientation*,
-                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*>;
+                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*, LandmarkFiles*>;
 
 struct Field {
   std::string key;                                    // the YAML key, = the field's name

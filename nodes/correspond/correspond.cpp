@@ -19,6 +19,7 @@
 #include "nodes/correspond/deformation_node.h"
 #include "nodes/correspond/rotation_cost.h"
 #include "nodes/correspond/smooth_cost.h"
+#include "nodes/io/read_pp.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
@@ -307,6 +308,22 @@ void inverse_match(const PointSet& source, CorrespondResult& r) {
   }
 }
 
+// The config's landmarks, and those of its picked-points files paired by name (names in one file only: a warning).
+std::vector<Landmark> user_landmarks(const CorrespondOptions& o, std::vector<std::string>& warnings) {
+  std::vector<Landmark> all = o.landmarks;
+  if (o.landmarks_file.exemplar.empty()) return all;
+  std::vector<std::string> unpaired;
+  const std::vector<Landmark> named = landmarks_by_name(o.landmarks_file, unpaired);
+  all.insert(all.end(), named.begin(), named.end());
+  if (!unpaired.empty()) {
+    std::string names;
+    for (const auto& n : unpaired) names += (names.empty() ? "" : ", ") + n;
+    warnings.push_back("landmarks_file: " + std::to_string(unpaired.size()) + " point names are in one file only (" +
+                       names + ")");
+  }
+  return all;
+}
+
 }  // namespace
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
@@ -357,7 +374,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   // Alternate assignment and embedded deformation, relaxing the stiffness.
   r.deformed = r.registered;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> landmarks;
-  for (const auto& l : o.landmarks) landmarks.emplace_back(r.rigid.apply(l.exemplar), l.source);
+  for (const auto& l : user_landmarks(o, r.warnings)) landmarks.emplace_back(r.rigid.apply(l.exemplar), l.source);
   if (o.outer_iterations > 0 && exemplar.size() >= 4 * (kNodesPerPoint + 1)) {
     Deformation def(r.registered, spacing, o);
     std::vector<Binding> bindings(size_t(exemplar.size()));
@@ -444,6 +461,26 @@ CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deform
     throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +
                      " template samples: too little of the template to learn from");
   return r;
+}
+
+std::vector<Landmark> landmarks_by_name(const LandmarkFiles& files, std::vector<std::string>& unpaired) {
+  const std::vector<NamedPoint> exemplar = read_picked_points(files.exemplar),
+                                source = read_picked_points(files.source);
+  std::vector<Landmark> pairs;
+  for (const NamedPoint& e : exemplar) {
+    const auto s = std::find_if(source.begin(), source.end(), [&](const NamedPoint& p) { return p.name == e.name; });
+    if (s == source.end())
+      unpaired.push_back(e.name);
+    else
+      pairs.push_back({e.position, s->position});
+  }
+  for (const NamedPoint& s : source)
+    if (std::none_of(exemplar.begin(), exemplar.end(), [&](const NamedPoint& p) { return p.name == s.name; }))
+      unpaired.push_back(s.name);
+  if (pairs.empty())
+    throw InputError("correspond.landmarks_file: no point name is in both " + files.exemplar.string() + " and " +
+                     files.source.string());
+  return pairs;
 }
 
 }  // namespace scanfill

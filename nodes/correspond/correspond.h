@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,12 @@ namespace scanfill {
 struct Landmark {
   Eigen::Vector3d exemplar;  // a point on the exemplar (scan), in its input frame
   Eigen::Vector3d source;    // where it belongs on the source (template)
+};
+
+// Landmarks given as two MeshLab picked-points files, paired by point name (correspond.landmarks_file).
+struct LandmarkFiles {
+  std::filesystem::path exemplar;  // picked on the scan or exemplar
+  std::filesystem::path source;    // picked on the template or source
 };
 
 struct CorrespondOptions {
@@ -53,6 +60,7 @@ struct CorrespondOptions {
   double max_scale_ratio = 10.0;   // bounding-box diagonals may differ by at most this factor; > 1
   Index min_samples = 50;          // fewer exemplar or source samples are refused; >= 4
   std::vector<Landmark> landmarks;
+  LandmarkFiles landmarks_file;  // more landmarks, by name from two .pp files (empty paths: none)
 };
 
 struct CorrespondResult {
@@ -76,6 +84,11 @@ struct CorrespondResult {
 // the pipeline calls it on every input before sampling them at a shared alpha; correspond() does not repeat it.
 void check_shared_scale(const std::string& name_a, const PointSet& a, const std::string& name_b, const PointSet& b,
                         double max_ratio);
+
+// Landmarks from two MeshLab picked-points files: each exemplar point paired with the source point of the same name.
+// Names found in only one file are listed in `unpaired`. Throws IoError naming a file that cannot be read, and
+// InputError when no name is in both.
+std::vector<Landmark> landmarks_by_name(const LandmarkFiles& files, std::vector<std::string>& unpaired);
 
 // exemplar and source: samples with normals, at the same spacing alpha.
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,

@@ -41,6 +41,8 @@ OptionTable option_table(CorrespondOptions& co) {
         positive(&co.landmark_weight)},
        {"landmarks", &co.landmarks,
         "user landmarks: a list of [[x, y, z] on the scan or exemplar, [x, y, z] on the template or source]", any()},
+       {"landmarks_file", &co.landmarks_file,
+        "more landmarks from MeshLab picked-points files [SCAN.pp, TEMPLATE.pp], paired by point name", any()},
        {"min_overlap", &co.min_overlap, "share of exemplar samples that must lie near the source after ICP; [0, 1]",
         range(&co.min_overlap, 0.0, 1.0, false, "a number in [0, 1]")},
        {"max_scale_ratio", &co.max_scale_ratio, "bounding-box diagonals may differ by at most this factor; > 1",

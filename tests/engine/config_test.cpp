@@ -146,6 +146,21 @@ TEST(Config, ThePaperPresetSetsThePapersValuesAndKeysStillOverrideIt) {
   EXPECT_NE(e.find("c.yaml:5:9: preset: expected scanfill or paper, got 'papers'"), std::string::npos) << e;
 }
 
+TEST(Config, LandmarksFileTakesTwoPickedPointsFilesBesideTheConfig) {
+  test::TempDir dir;
+  test::write_bytes(dir / "s.pp", "<PickedPoints/>");
+  test::write_bytes(dir / "t.pp", "<PickedPoints/>");
+  test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "correspond:\n  landmarks_file: [s.pp, t.pp]\n");
+  const RunConfig c = load_config(dir / "c.yaml");
+  EXPECT_EQ(c.correspond.landmarks_file.exemplar, dir / "s.pp");
+  EXPECT_EQ(c.correspond.landmarks_file.source, dir / "t.pp");
+  const std::string missing =
+      config_error(dir, std::string(kValidHead) + "correspond:\n  landmarks_file: [s.pp, nope.pp]\n");
+  EXPECT_NE(missing.find("correspond.landmarks_file: no such file: "), std::string::npos) << missing;
+  const std::string one = config_error(dir, std::string(kValidHead) + "correspond:\n  landmarks_file: [s.pp]\n");
+  EXPECT_NE(one.find("correspond.landmarks_file: expected two MeshLab picked-points files"), std::string::npos) << one;
+}
+
 TEST(Config, OutputColourIsByOriginOrByLabel) {
   test::TempDir dir;
   test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "output:\n  colour: label\n");

@@ -10,8 +10,10 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/features/estimate_features.h"
+#include "nodes/io/read_pp.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
+#include "test_util.h"
 
 namespace scanfill {
 namespace {
@@ -209,6 +211,47 @@ TEST(CorrespondenceView, MatchedSamplesShareTheColourOfTheirSourceSample) {
   EXPECT_EQ(view.colours[2], view.colours[1]);       // matched to source sample 1
   EXPECT_EQ(view.colours[3], (Rgb{150, 150, 150}));  // unmatched: grey
   EXPECT_GT(view.points.positions()(0, 2), 1.0);     // the exemplar beside the source, not on it
+}
+
+TEST(PickedPoints, MeshLabFilesAreReadAndPairedByName) {
+  test::TempDir dir;
+  // As MeshLab writes them (attributes in its order), plus one in another order and an inactive one.
+  test::write_bytes(dir / "scan.pp",
+                    "<!DOCTYPE PickedPoints>\n<PickedPoints>\n <DocumentData>\n  <DataFileName name=\"scan.ply\"/>\n"
+                    " </DocumentData>\n <point x=\"0.1\" y=\"0.2\" z=\"0.3\" active=\"1\" name=\"nose\"/>\n"
+                    " <point name=\"ear\" active=\"1\" z=\"3\" y=\"2\" x=\"1\"/>\n"
+                    " <point x=\"9\" y=\"9\" z=\"9\" active=\"0\" name=\"unused\"/>\n"
+                    " <point x=\"5\" y=\"5\" z=\"5\" active=\"1\" name=\"tail\"/>\n</PickedPoints>\n");
+  test::write_bytes(dir / "template.pp",
+                    "<PickedPoints>\n <point x=\"-1\" y=\"-2\" z=\"-3\" active=\"1\" name=\"ear\"/>\n"
+                    " <point x=\"0\" y=\"0\" z=\"1e-1\" active=\"1\" name=\"nose\"/>\n</PickedPoints>\n");
+  const auto points = read_picked_points(dir / "scan.pp");
+  ASSERT_EQ(points.size(), 3u);  // the inactive one left out
+  EXPECT_EQ(points[1].name, "ear");
+  EXPECT_TRUE(points[1].position.isApprox(Eigen::Vector3d(1, 2, 3)));
+  std::vector<std::string> unpaired;
+  const auto pairs = landmarks_by_name({dir / "scan.pp", dir / "template.pp"}, unpaired);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_TRUE(pairs[0].exemplar.isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));  // nose
+  EXPECT_TRUE(pairs[0].source.isApprox(Eigen::Vector3d(0, 0, 0.1)));
+  EXPECT_TRUE(pairs[1].source.isApprox(Eigen::Vector3d(-1, -2, -3)));  // ear
+  EXPECT_EQ(unpaired, (std::vector<std::string>{"tail"}));
+  // Errors name the file.
+  test::write_bytes(dir / "bad.pp", "<PickedPoints><point x=\"1\" y=\"nan\" z=\"0\" name=\"a\"/></PickedPoints>");
+  test::write_bytes(dir / "other.xml", "<svg/>");
+  for (const auto& [file, message] :
+       {std::pair<std::string, std::string>{"bad.pp", "bad.pp: point 1: expected a finite y"},
+        {"other.xml", "other.xml: not a MeshLab picked-points file"},
+        {"missing.pp", "missing.pp: no such file"}}) {
+    try {
+      read_picked_points(dir / file);
+      ADD_FAILURE() << file;
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  test::write_bytes(dir / "none.pp", "<PickedPoints><point x=\"1\" y=\"1\" z=\"0\" name=\"zz\"/></PickedPoints>");
+  EXPECT_THROW(landmarks_by_name({dir / "scan.pp", dir / "none.pp"}, unpaired), InputError);
 }
 
 }  // namespace
