@@ -37,3 +37,28 @@ configure_file(${CMAKE_CURRENT_LIST_DIR}/scanfill.pc.in ${PROJECT_BINARY_DIR}/sc
 install(FILES ${PROJECT_BINARY_DIR}/scanfill.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+# ---------------------------------------------------------------------------------------------------------------------
+# cpack -G DEB (in the build folder): one package, scanfill_VERSION_ARCH.deb, with the program, the library, the
+# headers and the CMake and pkg-config files, installed under /usr. Its Depends are computed by dpkg-shlibdeps (from
+# dpkg-dev) from what the binary and the library actually link, so they follow the build machine's packages
+# (Debian 12: libtbb12, libyaml-cpp0.7, libspdlog1.10-fmt9, libfmt9, liblz4-1, and for Ceres libgoogle-glog0v6,
+# libcholmod3, libcxsparse3, liblapack3: Debian's Ceres CMake config names libceres.a, so Ceres itself is linked in
+# and libceres3 is not needed). Eigen is headers only: building against the package needs libeigen3-dev, which is
+# therefore recommended, not required.
+set(CPACK_PACKAGE_NAME scanfill)
+set(CPACK_PACKAGE_VENDOR "The scanfill authors")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Completes partial 3D scans and transfers style by shape analogies")
+set(CPACK_PACKAGE_DESCRIPTION
+    "scanfill completes partial 3D scans from a structural template, and transfers geometric style between 3D shapes, by shape analogies (Ma et al., Analogy-Driven 3D Style Transfer, Eurographics 2014). The package holds the scanfill command, the libscanfill library, its headers and its CMake and pkg-config files.")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_CONTACT "scanfill maintainers <maintainers@users.noreply.h-seed-3de0c76f.example>")
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# shlibs and the ldconfig trigger, for the shared library installed in /usr/lib.
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libeigen3-dev (>= 3.4)")
+include(CPack)
