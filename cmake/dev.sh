@@ -9,7 +9,7 @@ what=${1:-run}
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 jobs=$(nproc 2>/dev/null || echo 2)
 
-packages=(build-essential cmake ninja-build pkg-config
+packages=(build-essential cmake ninja-build pkg-config dpkg-dev
   libtbb-dev libeigen3-dev libpcl-dev libflann-dev liblz4-dev libnanoflann-dev libceres-dev libspdlog-dev
   libyaml-cpp-dev liblemon-dev libboost-graph-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev

@@ -1,0 +1,54 @@
+# cpack -G DEB in the build folder (issue 14): the package holds the program, the library, the headers and the CMake
+# and pkg-config files under /usr, and depends on the Debian packages of the libraries it links (dpkg-shlibdeps),
+# none of them a -dev package.
+#   cmake -DBUILD=DIR -DWORK=DIR -DCPACK=cpack -P deb_test.cmake
+foreach(v BUILD WORK CPACK)
+  if(NOT ${v})
+    message(FATAL_ERROR "deb_test.cmake: -D${v}= is required")
+  endif()
+endforeach()
+
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${ARGN}\n${out}\n${err}")
+  endif()
+  set(output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK})
+run("cpack" ${CPACK} -G DEB -B ${WORK} --config ${BUILD}/CPackConfig.cmake)
+file(GLOB debs ${WORK}/scanfill_*.deb)
+list(LENGTH debs n)
+if(NOT n EQUAL 1)
+  message(FATAL_ERROR "expected one scanfill_*.deb in ${WORK}, found: ${debs}")
+endif()
+
+run("dpkg -c" dpkg -c ${debs})
+set(contents "${output}")
+foreach(path usr/bin/scanfill usr/lib[a-z0-9_/-]*/libscanfill\\.so\\.[0-9.]+ usr/include/scanfill/engine/pipeline\\.h
+             usr/include/scanfill/nodes/core/point_set\\.h usr/lib[a-z0-9_/-]*/cmake/scanfill/scanfill-config\\.cmake
+             usr/lib[a-z0-9_/-]*/cmake/scanfill/scanfill-targets\\.cmake usr/lib[a-z0-9_/-]*/pkgconfig/scanfill\\.pc)
+  if(NOT contents MATCHES " \\./${path}\n")
+    message(FATAL_ERROR "the package lacks ${path}:\n${contents}")
+  endif()
+endforeach()
+
+run("dpkg -I" dpkg-deb --field ${debs} Package Version Depends)
+set(fields "${output}")
+if(NOT fields MATCHES "Depends: ([^\n]*)")
+  message(FATAL_ERROR "the package has no Depends:\n${fields}")
+endif()
+set(depends "${CMAKE_MATCH_1}")
+# Not libceres: Debian's Ceres CMake config names libceres.a, so Ceres is linked in and its own libraries (glog,
+# SuiteSparse, LAPACK) are what the package needs.
+foreach(lib libtbb libyaml-cpp libspdlog libfmt libgoogle-glog libstdc\\+\\+)
+  if(NOT depends MATCHES "(^|, )${lib}[0-9.a-z-]*( |,|$)")
+    message(FATAL_ERROR "Depends lacks ${lib}: ${depends}")
+  endif()
+endforeach()
+if(depends MATCHES "-dev")
+  message(FATAL_ERROR "Depends names a -dev package: ${depends}")
+endif()
+message(STATUS "${debs}\n${fields}")
+file(REMOVE_RECURSE ${WORK})
