@@ -28,7 +28,9 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
   const RunOutcome outcome = run(small_config(dir / "out"));
-  ASSERT_EQ(outcome.outputs.size(), 5u);  // samples_scan, samples_template, output, analogy, report
+  // samples_scan, samples_template, output, output_mesh (output.surface: auto is poisson in completion), analogy,
+  // report
+  ASSERT_EQ(outcome.outputs.size(), 6u);
   const LoadResult templ = read_point_set(dir / "out" / "samples_template.ply");
   EXPECT_EQ(templ.points.size(), 3000);
   EXPECT_TRUE(templ.points.has_normals());
@@ -42,9 +44,9 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   EXPECT_GT(report["peak_rss_mb"].get<double>(), 0);
   std::set<std::string> names;
   for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
-  for (const char* n :
-       {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template",
-        "correspond", "cover", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
+  for (const char* n : {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template",
+                        "features:template", "correspond", "cover", "vote", "modes", "support", "label", "synthesize",
+                        "align", "transfer", "surface", "write"})
     EXPECT_TRUE(names.count(n)) << n;
   // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label, then the colour viewers show (issue 14).
   const std::string ply = test::read_bytes(dir / "out" / "output.ply");
