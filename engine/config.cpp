@@ -253,6 +253,18 @@ const std::vector<Role>& roles_for_mode(RunMode mode) {
   return analogy;
 }
 
+const std::vector<std::pair<std::string, SurfaceChoice>>& surface_choice_names() {
+  static const std::vector<std::pair<std::string, SurfaceChoice>> names{
+      {"auto", SurfaceChoice::kAuto}, {"none", SurfaceChoice::kNone}, {"poisson", SurfaceChoice::kPoisson}};
+  return names;
+}
+
+bool makes_surface(const RunConfig& config) {
+  if (config.mode == RunMode::kAnalogy) return false;
+  if (config.output_surface == SurfaceChoice::kAuto) return config.mode == RunMode::kCompletion;
+  return config.output_surface == SurfaceChoice::kPoisson;
+}
+
 const Input& input_for(const RunConfig& config, Role role) {
   for (const Input& input : config.inputs)
     if (input.role == role) return input;
@@ -274,6 +286,8 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
     if (!file.empty() && !std::filesystem::is_regular_file(file, ec))
       problems.push_back({"correspond.landmarks_file", "no such file: " + file.string()});
   }
+  if (config.mode == RunMode::kAnalogy && config.output_surface == SurfaceChoice::kPoisson)
+    problems.push_back({"output.surface", "mode analogy writes no output.ply to mesh: expected auto or none"});
   std::vector<std::string> roles;
   for (const Role role : roles_for_mode(config.mode)) roles.push_back(role_name(role));
   for (const Role role : roles_for_mode(config.mode)) {
@@ -318,13 +332,31 @@ bool read_mode(const YAML::Node& root, RunConfig& config, Problems& problems) {
   return false;
 }
 
+// output.surface: auto | none | poisson.
+void read_surface_choice(const YAML::Node& output, RunConfig& config, Problems& problems) {
+  const YAML::Node n = output["surface"];
+  if (!n) return;
+  problems.remember("output.surface", n.Mark());
+  std::string name;
+  std::vector<std::string> names;
+  for (const auto& [choice_name, choice] : surface_choice_names()) {
+    names.push_back(choice_name);
+    if (scalar_as(n, name) && name == choice_name) {
+      config.output_surface = choice;
+      return;
+    }
+  }
+  problems.add(n.Mark(), "output.surface", "expected one of " + join(names) + ", got " + describe(n));
+}
+
 void read_threads_and_output(const YAML::Node& root, RunConfig& config, Problems& problems) {
   if (const YAML::Node n = root["threads"]) {
     problems.remember("threads", n.Mark());
     if (!scalar_as(n, config.threads))
       problems.add(n.Mark(), "threads", "expected an integer >= 0, got " + describe(n));
   }
-  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir", "colour"}, problems)) {
+  if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir", "colour", "surface"}, problems)) {
+    read_surface_choice(n, config, problems);
     if (const YAML::Node c = n["colour"]) {
       std::string colour;
       problems.remember("output.colour", c.Mark());
@@ -523,6 +555,8 @@ std::string default_config_yaml() {
     << "  dir: out                  # created if missing; relative to the working directory\n"
     << "  colour: origin            # output.ply's RGB: origin (scan grey, synthesised orange, copied blue)\n"
     << "                            # or label (one colour per transform, as analogy.ply)\n"
+    << "  surface: auto             # output_mesh.ply, a surface through output.ply's points: poisson | none |\n"
+    << "                            # auto (poisson in completion, none otherwise); its options: surface below\n"
     << "threads: 0                  # worker threads; 0 = all cores (the --threads option overrides it)\n";
   for (const Section& section : option_sections(config)) {
     s << section.key << ":" << std::string(std::max<int>(1, 28 - int(section.key.size()) - 1), ' ') << "# "

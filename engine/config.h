@@ -20,6 +20,7 @@
 #include "nodes/sample/sample.h"
 #include "nodes/scan/virtual_scan.h"
 #include "nodes/support/support.h"
+#include "nodes/surface/surface.h"
 #include "nodes/symmetry/symmetry.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/vote/vote.h"
@@ -44,6 +45,12 @@ struct Input {
 // completed from two hand-held fragments).
 bool takes_fragments(Role role);
 
+// output.surface: whether output_mesh.ply, a surface through output.ply's points, is made. auto: poisson in completion
+// (a scan's points are a cloud), none in transfer (a mesh exemplar's output keeps its triangles); analogy has no
+// output.ply to mesh.
+enum class SurfaceChoice { kAuto, kNone, kPoisson };
+const std::vector<std::pair<std::string, SurfaceChoice>>& surface_choice_names();
+
 struct RunConfig {
   RunMode mode = RunMode::kCompletion;
   std::vector<Input> inputs;                 // in the mode's role order
@@ -51,6 +58,8 @@ struct RunConfig {
   bool colour_by_label = false;              // output.ply's RGB: by origin (false) or by transform label (true)
   int threads = 0;                           // 0 = all cores
   std::string preset = "scanfill";           // the parameter set the sections start from: scanfill | paper
+  // output.surface: output_mesh.ply or not; the mesh's options are the section `surface` (below)
+  SurfaceChoice output_surface = SurfaceChoice::kAuto;
   LoadOptions load;
   SampleOptions sample;
   FeaturesOptions features;
@@ -64,6 +73,7 @@ struct RunConfig {
   SynthesisOptions synthesize;
   AlignOptions align;
   VirtualScanOptions virtual_scan;
+  SurfaceOptions surface;
   std::filesystem::path config_path;  // the file it was read from
 };
 
@@ -71,6 +81,9 @@ struct RunConfig {
 const std::vector<std::pair<std::string, RunMode>>& mode_names();
 std::string mode_name(RunMode mode);
 std::string role_name(Role role);
+
+// Whether the run makes output_mesh.ply (output.surface resolved for the mode).
+bool makes_surface(const RunConfig& config);
 
 // Roles each mode requires, in order.
 const std::vector<Role>& roles_for_mode(RunMode mode);

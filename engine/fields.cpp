@@ -9,6 +9,7 @@
 #include "nodes/sample/sample_options.h"
 #include "nodes/scan/virtual_scan_options.h"
 #include "nodes/support/support_options.h"
+#include "nodes/surface/surface_options.h"
 #include "nodes/symmetry/symmetry_options.h"
 #include "nodes/synthesize/synthesize_options.h"
 #include "nodes/vote/vote_options.h"
@@ -33,9 +34,10 @@ std::vector<Section> option_sections(RunConfig& c) {
   // Completion's coverage is filed under correspond (its keys predate CoverOptions): correspond.cover_*.
   Section correspond = option_table(c.correspond);
   for (Field& f : option_table(c.cover).fields) correspond.fields.push_back(std::move(f));
-  return {option_table(c.load),  option_table(c.sample),     option_table(c.features), option_table(c.vote),
-          option_table(c.modes), option_table(c.support),    option_table(c.symmetry), option_table(c.label),
-          std::move(correspond), option_table(c.synthesize), option_table(c.align),    option_table(c.virtual_scan)};
+  return {option_table(c.load),   option_table(c.sample),     option_table(c.features), option_table(c.vote),
+          option_table(c.modes),  option_table(c.support),    option_table(c.symmetry), option_table(c.label),
+          std::move(correspond),  option_table(c.synthesize), option_table(c.align),    option_table(c.virtual_scan),
+          option_table(c.surface)};
 }
 
 void use_paper_parameters(RunConfig& config) {

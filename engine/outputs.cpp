@@ -157,6 +157,27 @@ void write_output(const RunState& state, const Transferred& t, nlohmann::json& r
   report["align"] = {{"solver", al.solver ? solver_json(*al.solver) : nlohmann::json(nullptr)}};
 }
 
+// output_mesh.ply; the report's surface, with the node's time (its cost, for the README).
+void write_surface(const RunState& state, const Surfaced& s, nlohmann::json& report, RunOutcome& outcome) {
+  const std::filesystem::path out = state.write_dir / "output_mesh.ply";
+  write_ply(out, s.surface.mesh);
+  outcome.outputs.push_back(out);
+  double seconds = 0;
+  for (const NodeTiming& t : state.timings())
+    if (t.name == "surface") seconds = t.wall_s;
+  const SurfaceOptions& o = state.config.surface;
+  report["surface"] = {{"method", "poisson"},
+                       {"vertices", s.surface.mesh.size()},
+                       {"faces", s.surface.mesh.faces().cols()},
+                       {"trimmed", s.surface.trimmed_faces},
+                       {"poisson_faces", s.surface.poisson_faces},
+                       {"points_meshed", s.surface.points_meshed},
+                       {"spacing", s.surface.spacing},
+                       {"depth", o.depth},
+                       {"trim_distance", o.trim_distance},
+                       {"seconds", seconds}};
+}
+
 // analogy.ply, the target samples coloured by transform; the report's transforms.
 nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcome& outcome) {
   const LabelResult& L = a.labels;
@@ -252,6 +273,15 @@ nlohmann::json symmetry_json(const Labelled& a) {
           {"composed_candidates", a.supports->composed}};
 }
 
+// The summary's line for output_mesh.ply, empty without one.
+std::string surface_line(const nlohmann::json& report) {
+  if (!report.contains("surface")) return "";
+  const auto& s = report["surface"];
+  return "  output_mesh.ply: a Poisson surface through output.ply's points, " +
+         std::to_string(s["vertices"].get<Index>()) + " vertices, " + std::to_string(s["faces"].get<Index>()) +
+         " triangles\n";
+}
+
 std::string summary(const RunConfig& config, const nlohmann::json& report, bool has_output) {
   std::ostringstream s;
   const bool completion = config.mode == RunMode::kCompletion;
@@ -270,7 +300,7 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
       << "  output.ply: vertex 'origin' 0 = " << (completion ? "scan" : "exemplar")
       << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json); RGB by "
       << (config.colour_by_label ? "label" : "origin (scan grey, synthesised orange, copied blue)") << "\n"
-      << "  analogy.ply: the " << (completion ? "template" : "target")
+      << surface_line(report) << "  analogy.ply: the " << (completion ? "template" : "target")
       << " samples coloured by transform (grey = self-reference)\n"
       << "  preview.png: the inputs, the analogy and the output, from the scan's side (top) and the other (bottom)\n"
       << "  correspondence.ply: the " << (completion ? "template" : "source") << " samples and, beside them, the "
@@ -297,6 +327,7 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
     write_output(state, *state.output(), report, outcome);
     write_correspondence(state, *state.output()->aligned->synthesized->correspondence, outcome);
   }
+  if (state.surface()) write_surface(state, *state.surface(), report, outcome);
   nlohmann::json transforms = nlohmann::json::array();
   nlohmann::json energy = nullptr;
   if (state.analogy()) {

@@ -1,6 +1,7 @@
 // The outputs of a run (DESIGN section 5), written after the whole graph has succeeded: samples_ROLE.ply per input,
-// output.ply (completion, transfer), analogy.ply with a colour per transform, report.json last; and the summary shown
-// to the user. The run fails whole: files are staged beside the output folder and moved in together (engine/staging.h).
+// output.ply (completion, transfer), output_mesh.ply (when output.surface makes one), analogy.ply with a colour per
+// transform, report.json last; and the summary shown to the user. The run fails whole: files are staged beside the
+// output folder and moved in together (engine/staging.h).
 #pragma once
 
 #include "engine/pipeline.h"

@@ -109,17 +109,21 @@ flow::sender<LabelledPtr>& add_analogy(Wiring& w, const Branch& source, const Br
   return add_analogy_chain(w, symmetry);
 }
 
-// synthesized -> align -> transfer.
+// synthesized -> align -> transfer (-> surface, when output.surface asks for one).
 void add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize, bool to_scan_frame) {
   auto& align = w.node<SynthesizedPtr, AlignedPtr>([&w](const SynthesizedPtr& in) { return align_stage(w.state, in); });
   auto& transfer = w.node<AlignedPtr, TransferredPtr>(
       [&w, to_scan_frame](const AlignedPtr& in) { return transfer_stage(w.state, in, to_scan_frame); });
   flow::make_edge(synthesize, align);
   flow::make_edge(align, transfer);
+  if (!makes_surface(w.state.config)) return;
+  auto& surface =
+      w.node<TransferredPtr, SurfacedPtr>([&w](const TransferredPtr& in) { return surface_stage(w.state, in); });
+  flow::make_edge(transfer, surface);
 }
 
 // correspond(scan, template) -> cover: S = the template samples the scan covers -> symmetry(S, template) -> vote ->
-// modes -> support -> label; synthesize(M, A) -> align -> transfer, back in the scan's frame.
+// modes -> support -> label; synthesize(M, A) -> align -> transfer, back in the scan's frame -> surface.
 void build_completion(Wiring& w) {
   const Branch templ = add_input_branch(w, Role::kTemplate);
   const Branch scan = add_input_branch(w, Role::kScan, &templ);

@@ -38,6 +38,11 @@ void RunState::keep(TransferredPtr t) {
   output_ = std::move(t);
 }
 
+void RunState::keep(SurfacedPtr s) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  surface_ = std::move(s);
+}
+
 namespace {
 
 // Runs `body` as node `name`: progress, timing, and the node's name on any error.
@@ -309,6 +314,20 @@ TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_sca
         ->info("{} output points, {} faces", out->output.points.size(), out->output.points.faces().cols());
     state.keep(out);
     return TransferredPtr(std::move(out));
+  });
+}
+
+SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
+  return run_node(state, "surface", "", [&](const ProgressFn&) {
+    auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->output.points, state.config.surface)});
+    const SurfaceResult& s = out->surface;
+    node_logger("surface")->info(
+        "Poisson surface: {} vertices, {} triangles from {} points (spacing {:.4g}); {} of {} triangles trimmed as "
+        "farther than {} spacings from the points",
+        s.mesh.size(), s.mesh.faces().cols(), s.points_meshed, s.spacing, s.trimmed_faces, s.poisson_faces,
+        state.config.surface.trim_distance);
+    state.keep(out);
+    return SurfacedPtr(std::move(out));
   });
 }
 

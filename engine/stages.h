@@ -13,6 +13,7 @@
 
 #include "engine/config.h"
 #include "engine/pipeline.h"
+#include "nodes/surface/surface.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"
 
@@ -103,6 +104,13 @@ struct Transferred {
 };
 using TransferredPtr = std::shared_ptr<const Transferred>;
 
+// output.surface: the output points meshed (output_mesh.ply).
+struct Surfaced {
+  TransferredPtr transferred;
+  SurfaceResult surface;
+};
+using SurfacedPtr = std::shared_ptr<const Surfaced>;
+
 // What a run's nodes share with the engine: the config, timings, warnings and, for the writer, every input's features
 // and the last message of the graph.
 class RunState {
@@ -116,6 +124,7 @@ class RunState {
   void keep(FeaturedPtr f);
   void keep(LabelledPtr a);
   void keep(TransferredPtr t);
+  void keep(SurfacedPtr s);
 
   // After the graph has run.
   const std::vector<NodeTiming>& timings() const { return timings_; }
@@ -123,6 +132,7 @@ class RunState {
   const std::vector<FeaturedPtr>& inputs() const { return inputs_; }  // in config.inputs' order
   const LabelledPtr& analogy() const { return analogy_; }
   const TransferredPtr& output() const { return output_; }
+  const SurfacedPtr& surface() const { return surface_; }  // null unless output.surface made one
 
  private:
   std::mutex mutex_;
@@ -131,6 +141,7 @@ class RunState {
   std::vector<FeaturedPtr> inputs_;
   LabelledPtr analogy_;
   TransferredPtr output_;
+  SurfacedPtr surface_;
 };
 
 // The node bodies. `reference`: the input whose spacing alpha this one is sampled at (nullptr: as configured).
@@ -149,5 +160,6 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
 AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
 // `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
 TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
+SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in);
 
 }  // namespace scanfill

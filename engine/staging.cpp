@@ -90,8 +90,8 @@ std::vector<std::filesystem::path> Staging::commit(const std::vector<std::string
 }
 
 void check_outputs_spare_inputs(const RunConfig& config) {
-  std::vector<std::filesystem::path> written{"output.ply", "analogy.ply", "report.json", "preview.png",
-                                             "correspondence.ply"};
+  std::vector<std::filesystem::path> written{"output.ply",  "analogy.ply",     "report.json",
+                                             "preview.png", "output_mesh.ply", "correspondence.ply"};
   for (const auto& input : config.inputs) written.push_back("samples_" + role_name(input.role) + ".ply");
   std::error_code ec;
   for (const auto& input : config.inputs) {

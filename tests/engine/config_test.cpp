@@ -171,6 +171,34 @@ TEST(Config, OutputColourIsByOriginOrByLabel) {
   EXPECT_NE(e.find("c.yaml:6:11: output.colour: expected origin or label, got 'rainbow'"), std::string::npos) << e;
 }
 
+TEST(Config, OutputSurfaceIsPoissonForCompletionsUnlessSaid) {
+  test::TempDir dir;
+  test::write_bytes(dir / "d.yaml", kValidHead);
+  RunConfig c = load_config(dir / "d.yaml");
+  EXPECT_EQ(c.output_surface, SurfaceChoice::kAuto);
+  EXPECT_TRUE(makes_surface(c));  // kValidHead is a completion
+  c.mode = RunMode::kTransfer;
+  EXPECT_FALSE(makes_surface(c));  // auto: a transfer keeps the exemplar's own triangles, or none
+  c.output_surface = SurfaceChoice::kPoisson;
+  EXPECT_TRUE(makes_surface(c));
+  c.mode = RunMode::kAnalogy;
+  EXPECT_FALSE(makes_surface(c));  // no output.ply
+  test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "output:\n  surface: none\n");
+  EXPECT_FALSE(makes_surface(load_config(dir / "c.yaml")));
+  EXPECT_FALSE(makes_surface(load_config(dir / "d.yaml", {"output.surface=none"})));
+  const std::string e = config_error(dir, std::string(kValidHead) + "output:\n  surface: marching\n");
+  EXPECT_NE(e.find("c.yaml:6:12: output.surface: expected one of auto, none, poisson, got 'marching'"),
+            std::string::npos)
+      << e;
+  const std::string analogy =
+      config_error(dir,
+                   "mode: analogy\ninputs:\n  source: procedural:vase_template\n  target: procedural:vase_template\n"
+                   "output:\n  surface: poisson\n");
+  EXPECT_NE(analogy.find("output.surface: mode analogy writes no output.ply to mesh"), std::string::npos) << analogy;
+  const std::string depth = config_error(dir, std::string(kValidHead) + "surface:\n  depth: 30\n");
+  EXPECT_NE(depth.find("surface.depth: expected an integer in [4, 12], got 30"), std::string::npos) << depth;
+}
+
 TEST(Config, AScanMayBeAListOfFragmentsAndEachIsChecked) {
   test::TempDir dir;
   test::write_bytes(dir / "a.xyz", "0 0 0\n");

@@ -28,8 +28,9 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   setup_logging(false, true);
   test::TempDir dir;
   const RunOutcome outcome = run(small_config(dir / "out"));
-  // samples_scan, samples_template, output, correspondence, analogy, preview, report
-  ASSERT_EQ(outcome.outputs.size(), 7u);
+  // samples_scan, samples_template, output, correspondence, output_mesh (output.surface: auto is poisson in
+  // completion), analogy, preview, report
+  ASSERT_EQ(outcome.outputs.size(), 8u);
   const std::string map = test::read_bytes(dir / "out" / "correspondence.ply");
   EXPECT_NE(map.find("property uchar side\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"),
             std::string::npos);
@@ -47,9 +48,9 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   EXPECT_GT(report["peak_rss_mb"].get<double>(), 0);
   std::set<std::string> names;
   for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
-  for (const char* n :
-       {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template", "features:template",
-        "correspond", "cover", "vote", "modes", "support", "label", "synthesize", "align", "transfer", "write"})
+  for (const char* n : {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template",
+                        "features:template", "correspond", "cover", "vote", "modes", "support", "label", "synthesize",
+                        "align", "transfer", "surface", "write"})
     EXPECT_TRUE(names.count(n)) << n;
   // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label, then the colour viewers show (issue 14).
   const std::string ply = test::read_bytes(dir / "out" / "output.ply");
