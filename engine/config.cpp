@@ -465,6 +465,12 @@ void read_sections(const YAML::Node& root, RunConfig& config, Problems& problems
 
 }  // namespace
 
+std::vector<InputSpec> all_specs(const Input& input) {
+  std::vector<InputSpec> specs{input.spec};
+  specs.insert(specs.end(), input.fragments.begin(), input.fragments.end());
+  return specs;
+}
+
 bool takes_fragments(Role role) {
   return role == Role::kScan || role == Role::kExemplar;
 }

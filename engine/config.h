@@ -45,6 +45,9 @@ struct Input {
 // completed from two hand-held fragments).
 bool takes_fragments(Role role);
 
+// Every file or shape of an input: `spec`, then its further fragments.
+std::vector<InputSpec> all_specs(const Input& input);
+
 // output.surface: whether output_mesh.ply, a surface through output.ply's points, is made. auto: poisson in completion
 // (a scan's points are a cloud), none in transfer (a mesh exemplar's output keeps its triangles); analogy has no
 // output.ply to mesh.

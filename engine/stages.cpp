@@ -71,9 +71,7 @@ LoadedPtr load_stage(RunState& state, const Input& input) {
       input_name(input.spec) +
       (input.fragments.empty() ? "" : " and " + std::to_string(input.fragments.size()) + " more fragments");
   return run_node(state, name, subject, [&](const ProgressFn&) {
-    std::vector<InputSpec> specs{input.spec};
-    specs.insert(specs.end(), input.fragments.begin(), input.fragments.end());
-    LoadResult load = load_fragments(specs, state.config.load);
+    LoadResult load = load_fragments(all_specs(input), state.config.load);
     if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), state.config.virtual_scan, subject);
     const BoundingBox box = input_bounds(load);
     auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});

@@ -95,9 +95,7 @@ void check_outputs_spare_inputs(const RunConfig& config) {
   for (const auto& input : config.inputs) written.push_back("samples_" + role_name(input.role) + ".ply");
   std::error_code ec;
   for (const auto& input : config.inputs) {
-    std::vector<InputSpec> specs{input.spec};
-    specs.insert(specs.end(), input.fragments.begin(), input.fragments.end());
-    for (const InputSpec& spec : specs) {
+    for (const InputSpec& spec : all_specs(input)) {
       if (spec.path.empty()) continue;
       const auto in = std::filesystem::weakly_canonical(spec.path, ec);
       for (const auto& name : written)
