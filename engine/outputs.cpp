@@ -205,6 +205,7 @@ void write_surface(const RunState& state, const Surfaced& s, nlohmann::json& rep
                        {"faces", s.surface.mesh.faces().cols()},
                        {"trimmed", s.surface.trimmed_faces},
                        {"poisson_faces", s.surface.poisson_faces},
+                       {"poisson_diagnostics", s.surface.diagnostics},
                        {"points_meshed", s.surface.points_meshed},
                        {"spacing", s.surface.spacing},
                        {"depth", o.depth},

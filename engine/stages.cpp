@@ -324,6 +324,7 @@ SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
     auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->output.points, state.config.surface)});
     const SurfaceResult& s = out->surface;
+    for (const auto& w : s.warnings) state.warn("surface", w);
     node_logger("surface")->info(
         "Poisson surface: {} vertices, {} triangles from {} points (spacing {:.4g}); {} of {} triangles trimmed as "
         "farther than {} spacings from the points",
