@@ -68,6 +68,9 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   }
   TransferResult out;
   Eigen::Matrix3Xd P(3, total), N(3, total);
+  const bool colours = in.exemplar.has_colours(), intensity = in.exemplar.has_intensity();
+  Matrix3Xu8 C(3, colours ? total : 0);
+  Eigen::VectorXf I(intensity ? total : 0);
   out.origin.resize(size_t(total));
   out.label.resize(size_t(total));
   std::vector<Eigen::Vector3i> tris;
@@ -92,6 +95,8 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
       P.col(o) =
           whole.apply(full.positions().col(Index(i))) + in.alignment.offset[size_t(j)] * W.scale * W.apply_normal(nj);
       N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(Index(i))) : W.apply_normal(nj);
+      if (colours) C.col(o) = patch.from_target ? kCopiedColour : in.exemplar.colours().col(Index(i));
+      if (intensity) I(o) = patch.from_target ? kCopiedIntensity : in.exemplar.intensity()(Index(i));
       out.origin[size_t(o)] = patch.origin;
       out.label[size_t(o)] = patch.origin == Origin::kExemplar ? -1 : patch.label;
     });
@@ -106,6 +111,8 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
   }
   out.points = PointSet(std::move(P));
   out.points.set_normals(std::move(N));
+  if (colours) out.points.set_colours(std::move(C));
+  if (intensity) out.points.set_intensity(std::move(I));
   if (!tris.empty()) {
     Matrix3Xi F(3, Index(tris.size()));
     for (size_t f = 0; f < tris.size(); ++f) F.col(Index(f)) = tris[f];

@@ -8,6 +8,11 @@
 // emitted by a patch is emitted with them, so the output keeps the exemplar's full resolution and connectivity. Memory
 // is linear in the output: one index per input point and patch, no dense tables. Finally the working frame is mapped
 // to the output frame (in completion, back to the scan's own frame).
+//
+// Appearance: when the exemplar has colours or intensity, every output point has them. A point moved from the
+// exemplar (kept or synthesised) keeps its exemplar point's exactly; a point copied from the target, which has no
+// measured appearance in the exemplar, gets kCopiedColour (mid grey) and kCopiedIntensity (0, a scanner's "no
+// return"); its `origin` tells it apart.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +35,12 @@ struct TransferInputs {
   const Similarity& working_to_output;
 };
 
+inline const Eigen::Matrix<std::uint8_t, 3, 1> kCopiedColour{128, 128, 128};
+constexpr float kCopiedIntensity = 0.0f;
+
 struct TransferResult {
-  PointSet points;                  // positions, normals, faces when the exemplar is a mesh
+  PointSet points;                  // positions, normals, faces when the exemplar is a mesh; colours, intensity when
+                                    // the exemplar has them
   std::vector<Origin> origin;       // per point
   std::vector<std::int32_t> label;  // per point
 };
