@@ -226,8 +226,10 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     SupportOptions options = config.support;
     options.allow_scale = config.vote.allow_scale;
     const PointSet& T = v.target()->features.points;
-    const SupportResult voted =
+    SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
+    if (const auto& axis = v.symmetries->source_symmetry.continuous)
+      snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const std::vector<Mode> composed =
         composed_candidates(voted.transforms, v.symmetries->target_symmetry, T, config.symmetry);

@@ -23,7 +23,7 @@ namespace scanfill {
 
 struct SupportOptions {
   double distance = 2.0;             // explained when within this many alpha of a source sample; > 0
-  double normal_angle_deg = 30.0;    // and normals agree within this; (0, 180]
+  double normal_angle_deg = 90.0;    // and normals agree within this; (0, 180]
   int graph_k = 8;                   // target kNN graph for growing; [2, 64]
   int icp_iterations = 5;            // similarity ICP steps per transform; >= 0
   Index icp_samples = 4096;          // ICP uses at most this many support samples (an even subsample); >= 3

@@ -146,12 +146,18 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   return result;
 }
 
+Similarity nearest_identity_member(const Similarity& q, const SymmetryAxis& axis) {
+  return rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction)).compose(q);
+}
+
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {
-    const Similarity q = unembed(votes.embedding.col(v), votes);
-    const Similarity g = rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction));
-    votes.embedding.col(v) = embed(g.compose(q), votes);
+    votes.embedding.col(v) = embed(nearest_identity_member(unembed(votes.embedding.col(v), votes), axis), votes);
   });
+}
+
+void snap_to_family_representatives(std::vector<SupportedTransform>& transforms, const SymmetryAxis& axis) {
+  for (auto& t : transforms) t.transform = nearest_identity_member(t.transform, axis);
 }
 
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,

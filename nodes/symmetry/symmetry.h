@@ -61,6 +61,15 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
 // nearest the identity, so that a ring of equivalent motions becomes one mode. Its phase is fixed later.
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis);
 
+// G_theta o Q, the member of Q's family about the source's continuous `axis` whose rotation is nearest the identity.
+Similarity nearest_identity_member(const Similarity& q, const SymmetryAxis& axis);
+
+// After support's ICP, which slides a transform freely along the source's continuous symmetry (a disk turns on
+// itself), each found transform is put back on its family's representative, as its votes were: the phase ICP drifted
+// to says nothing (the source has no detail to fix it), while the representative is the turn eq. 9 prefers. Only
+// the found transforms: compositions with the target's symmetries are deliberately other members.
+void snap_to_family_representatives(std::vector<SupportedTransform>& transforms, const SymmetryAxis& axis);
+
 // Candidates the paper expects: each of the `max_base_transforms` strongest found transforms Q (target -> source)
 // composed with each symmetry R of the target (target -> target): Q o R explains the target samples that R carries
 // onto Q's support. Where T has a continuous axis, Q is first replaced by the member of its family Q o G_theta whose
