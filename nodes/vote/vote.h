@@ -10,6 +10,9 @@
 // flood the vote space with sliding transforms (as Mitra et al. note, pruning low-curvature points): they vote only
 // when fewer than `min_curved_fraction` of the target points are curved. Each vote is embedded as the 13-vector of
 // nodes/core/analogy.h, with the weights rotation_weight, translation_weight and scale_weight.
+// `planar` (mode curves: samples of 2D curves at z = 0, k2 = 0, d1 = z x n, nodes/curves/sample_curves.h): the 2D
+// similarity group only (rotation about z, translation in the plane, scale): one vote per pair, from the frame itself,
+// and the signature is k1 alpha, the curve's one curvature.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +37,7 @@ struct VoteOptions {
   double translation_weight = 8.0;    // w_t (translation in units of the bounding-box diagonal); > 0
   double scale_weight = 2.0;          // w_s (log scale); > 0
   std::uint64_t seed = 1;
+  bool planar = false;  // the z = 0 plane (mode curves; set by the engine, no key): see below
 };
 
 // source and target need normals, curvatures and directions (the features node). `spacing` is the sample spacing
