@@ -37,7 +37,7 @@ Affine compose(const Affine& a, const Affine& b) {  // a o b
 class NumberReader {
  public:
   NumberReader(std::string_view text, const std::string& name, const std::string& what)
-      : s_(text), name_(name), what_(what) {}
+      : s_(text), name_(name), what_(what) {}  // keeps a copy: callers pass temporaries
   void skip() {
     while (pos_ < s_.size() && (std::isspace(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == ',')) ++pos_;
   }
@@ -80,7 +80,7 @@ class NumberReader {
       }
     }
     if (!digits) fail(name_, what_ + ": expected a number at '" + rest() + "'");
-    const double v = std::stod(std::string(s_.substr(pos_, end - pos_)));
+    const double v = std::stod(s_.substr(pos_, end - pos_));
     pos_ = end;
     if (!std::isfinite(v)) fail(name_, what_ + ": a number is not finite");
     return v;
@@ -95,10 +95,10 @@ class NumberReader {
     const double x = number();
     return {x, number()};
   }
-  std::string rest() const { return std::string(s_.substr(pos_, 20)); }
+  std::string rest() const { return s_.substr(pos_, 20); }
 
  private:
-  std::string_view s_;
+  std::string s_;
   size_t pos_ = 0;
   std::string name_, what_;
 };
