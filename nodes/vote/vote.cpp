@@ -16,7 +16,7 @@ namespace {
 constexpr double kFlatSignature = 10.0;  // k2/k1 lies in [-1, 1]; flat points get a class of their own
 
 // k2/k1 on a surface; on a curve of the plane (k2 = 0) the dimensionless k1 alpha, clamped into [-1, 1] (a curve has
-// no scale-free signature of one sample: with scale allowed, pairs need more matches_per_point to meet their partner).
+// no scale-free signature of one sample: a scaled partner lies further off in signature, hence curve_matches).
 double signature(const PointSet& p, Index i, double spacing, double flat, bool planar) {
   const double k1 = p.curvatures()(0, i), k2 = p.curvatures()(1, i);
   if (std::abs(k1) * spacing < flat) return kFlatSignature;
@@ -77,7 +77,8 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
 
   // Each voter's votes in its own slot range: deterministic order on any thread count.
   const int per_pair_max = 4;
-  const size_t slot = size_t(o.matches_per_point) * per_pair_max;
+  const int matches = o.planar ? o.curve_matches : o.matches_per_point;
+  const size_t slot = size_t(matches) * per_pair_max;
   VoteMatrix all(13, Index(voters.size() * slot));
   std::vector<std::int32_t> owner(voters.size() * slot, -1);
   const double log_min = std::log(o.min_scale), log_max = std::log(o.max_scale);
@@ -85,11 +86,11 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
     const Index t = voters[v];
     const double sig = signature(target, t, spacing, o.flat_curvature, o.planar);
     const bool t_flat = sig == kFlatSignature;
-    // The matches_per_point nearest signatures: expand a window around the insertion point.
+    // The `matches` nearest signatures: expand a window around the insertion point.
     auto hi = std::lower_bound(by_sig.begin(), by_sig.end(), std::make_pair(sig, std::int32_t(-1)));
     auto lo = hi;
     size_t out = v * slot;
-    for (int m = 0; m < o.matches_per_point && (lo != by_sig.begin() || hi != by_sig.end()); ++m) {
+    for (int m = 0; m < matches && (lo != by_sig.begin() || hi != by_sig.end()); ++m) {
       const bool take_lo = hi == by_sig.end() || (lo != by_sig.begin() && sig - (lo - 1)->first <= hi->first - sig);
       const auto it = take_lo ? --lo : hi++;
       const Index s = it->second;

@@ -12,7 +12,7 @@
 // nodes/core/analogy.h, with the weights rotation_weight, translation_weight and scale_weight.
 // `planar` (mode curves: samples of 2D curves at z = 0, k2 = 0, d1 = z x n, nodes/curves/sample_curves.h): the 2D
 // similarity group only (rotation about z, translation in the plane, scale): one vote per pair, from the frame itself,
-// and the signature is k1 alpha, the curve's one curvature.
+// and the signature is k1 alpha, the curve's one curvature; each voter pairs with its curve_matches nearest.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +27,8 @@ namespace scanfill {
 struct VoteOptions {
   Index target_samples = 4000;        // target points that vote; >= 1
   int matches_per_point = 12;         // source points each voting target point pairs with; [1, 256]
+  int curve_matches = 48;             // the same on curves (planar): their signature k1 alpha is not scale-free, so
+                                      // a scaled partner lies further off in it; [1, 1024]
   bool allow_scale = true;            // similarity (true) or rigid (false) transforms
   double min_scale = 0.25;            // scales outside [min_scale, max_scale] are not voted for; > 0
   double max_scale = 4.0;             // >= min_scale
