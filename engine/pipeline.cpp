@@ -178,8 +178,8 @@ void build_transfer(Wiring& w) {
   add_style_transfer(w, target, source, add_input_branch(w, Role::kExemplar, &target));
 }
 
-// The same graph on 2D drawings, in the z = 0 plane (the nodes keep to motions of the plane: their `planar` options,
-// set by the stages in this mode); then draw: the output points as polylines along the target's curves.
+// The same graph on 2D drawings, in the z = 0 plane (vote and symmetry keep to motions of the plane: their `planar`
+// options, set by the stages in this mode); then draw: the output points as polylines along the target's curves.
 void build_curves(Wiring& w) {
   const Branch target = add_curve_branch(w, Role::kTarget);
   const Branch source = add_curve_branch(w, Role::kSource, &target);

@@ -181,9 +181,7 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     c->exemplar = exemplar;
     c->source = source;
     const PointSet& E = exemplar->features.points;
-    CorrespondOptions options = state.config.correspond;
-    options.planar = state.config.mode == RunMode::kCurves;
-    c->map = correspond(E, source->features.points, source->sampled->sample.spacing, options, progress);
+    c->map = correspond(E, source->features.points, source->sampled->sample.spacing, state.config.correspond, progress);
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
     node_logger("correspond")
         ->info(
@@ -279,7 +277,6 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both.
     SupportOptions options = config.support;
     options.allow_scale = config.vote.allow_scale;
-    options.planar = config.mode == RunMode::kCurves;
     const PointSet& T = v.target()->features.points;
     const SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
@@ -331,9 +328,7 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              analogy->labels.self_label,
                              transforms,
                              coverage ? &coverage->cover.covered : nullptr};
-    SynthesisOptions options = state.config.synthesize;
-    options.planar = state.config.mode == RunMode::kCurves;
-    out->synthesis = synthesize(in, v.spacing(), options);
+    out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];
     node_logger("synthesize")

@@ -17,8 +17,7 @@ Similarity icp(Similarity q, const IcpPairFinder& find_pairs, const IcpOptions& 
   for (int it = 0; it < o.iterations; ++it) {
     find_pairs(q, it, pairs);
     if (pairs.moved.cols() < o.min_pairs) break;
-    Similarity next = icp_step(q, pairs, it >= o.point_to_point_iterations, o.allow_scale);
-    if (o.planar) next = in_plane(next);
+    const Similarity next = icp_step(q, pairs, it >= o.point_to_point_iterations, o.allow_scale);
     const double change = rotation_angle(next.rotation * q.rotation.transpose()) +
                           (next.translation - q.translation).norm() / std::max(pairs.rms, 1e-300);
     q = next;

@@ -23,7 +23,6 @@ struct IcpOptions {
   int point_to_point_iterations = 0;  // the first this many steps are point-to-point, the rest point-to-plane
   bool allow_scale = false;           // similarity (true) or rigid (false) steps
   Eigen::Index min_pairs = 3;         // fewer pairs end the loop
-  bool planar = false;                // keep every estimate a motion of the z = 0 plane (in_plane; mode curves)
   double converged_change = 0;  // stop once rotation change (rad) + translation change / rms falls below; 0 = never
 };
 

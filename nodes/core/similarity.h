@@ -58,15 +58,6 @@ inline bool is_axis_rotation(const Eigen::Matrix3d& R, double tolerance) {
   return A.determinant() > 0 && rotation_angle(A.transpose() * R) <= tolerance;
 }
 
-// The motion of the z = 0 plane nearest q (mode curves): the rotation about z nearest q's rotation, no z translation.
-inline Similarity in_plane(const Similarity& q) {
-  const double angle = std::atan2(q.rotation(1, 0) - q.rotation(0, 1), q.rotation(0, 0) + q.rotation(1, 1));
-  Similarity out = q;
-  out.rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  out.translation.z() = 0;
-  return out;
-}
-
 // Least-squares similarity (or rigid motion, when allow_scale is false) taking the columns of `from` to those of
 // `to` (Umeyama 1991). Returns identity for fewer than 3 points.
 Similarity fit_similarity(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to, bool allow_scale);

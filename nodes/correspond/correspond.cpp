@@ -86,7 +86,6 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
              {.iterations = o.rigid_iterations,
               .point_to_point_iterations = coarse,
               .min_pairs = 7,
-              .planar = o.planar,
               .converged_change = 1e-6});
 }
 

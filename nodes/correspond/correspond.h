@@ -59,7 +59,6 @@ struct CorrespondOptions {
   double min_overlap = 0.2;        // share of exemplar samples that must lie within escape_distance after ICP; [0, 1]
   double max_scale_ratio = 10.0;   // bounding-box diagonals may differ by at most this factor; > 1
   Index min_samples = 50;          // fewer exemplar or source samples are refused; >= 4
-  bool planar = false;             // rigid motions of the z = 0 plane only (mode curves; set by the engine, no key)
   std::vector<Landmark> landmarks;
   LandmarkFiles landmarks_file;  // more landmarks, by name from two .pp files (empty paths: none)
 };

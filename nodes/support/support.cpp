@@ -104,8 +104,7 @@ std::vector<SupportedTransform> grow_all(const PointSet& source, const PointSet&
     st.transform = icp(st.transform, find_pairs,
                        {.iterations = o.icp_iterations,
                         .point_to_point_iterations = o.icp_iterations / 2,
-                        .allow_scale = o.allow_scale,
-                        .planar = o.planar},
+                        .allow_scale = o.allow_scale},
                        regrow);
     st.support = grow(c, st.transform, st.support.empty() ? modes[m].voters : st.support);
     double sum = 0;

@@ -31,7 +31,6 @@ struct SupportOptions {
   bool allow_scale = true;           // refine as similarity (true) or rigid motion
   double duplicate_angle_deg = 2.0;  // transforms closer than this in rotation ...
   double duplicate_distance = 1.0;   // ... and moving the support centre less than this many alpha are merged
-  bool planar = false;               // motions of the z = 0 plane only (mode curves; set by the engine, no key)
   double redundant_overlap = 0.9;    // a transform whose support lies this much inside a stronger one's is dropped
                                      // (a symmetric equivalent, or a slid part); (0, 1], 1 = only exact subsets
 };

@@ -136,8 +136,8 @@ class PlacedImages {
   }
 
   // Rigid point-to-plane ICP of the image under c o q onto the placed images, on the overlap only (pairs within the
-  // limit with normals within 60 degrees; at least 30): returns the refined c, a motion of the plane when `planar`.
-  Similarity fit_onto_placed(const Similarity& q, const Similarity& c, int iterations, bool planar) const {
+  // limit with normals within 60 degrees; at least 30): returns the refined c.
+  Similarity fit_onto_placed(const Similarity& q, const Similarity& c, int iterations) const {
     Eigen::Matrix3Xd p, n;
     std::vector<std::int32_t> match;
     std::vector<Index> overlap;
@@ -162,8 +162,7 @@ class PlacedImages {
         pairs.normals.col(Index(j)) = ref_n_.col(match[size_t(overlap[j])]);
       }
     };
-    return icp(c, find_pairs,
-               {.iterations = iterations, .point_to_point_iterations = 0, .min_pairs = 30, .planar = planar});
+    return icp(c, find_pairs, {.iterations = iterations, .point_to_point_iterations = 0, .min_pairs = 30});
   }
 
  private:
@@ -265,9 +264,8 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const Similarity phase = phase_correction(placed, inv[best], target, labels, int(best), spacing, o);
-      const Similarity c =
-          placed.fit_onto_placed(inv[best], o.planar ? in_plane(phase) : phase, o.refine_iterations, o.planar);
+      const Similarity c = placed.fit_onto_placed(
+          inv[best], phase_correction(placed, inv[best], target, labels, int(best), spacing, o), o.refine_iterations);
       inv[best] = c.compose(inv[best]);
       out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
       out.refinement_shift[best] = c.translation.norm();

@@ -45,7 +45,6 @@ struct SynthesisOptions {
   int refine_iterations = 10;     // ICP steps refining each transform against the exemplar's overlapping images; >= 0
   double refine_distance = 3.0;   // ICP pairs closer than this, in alpha; > 0
   double search_distance = 15.0;  // slippable motions are searched this far (alpha) before ICP; >= 0
-  bool planar = false;            // motions of the z = 0 plane only (mode curves; set by the engine, no key)
 };
 
 struct Synthesis {
