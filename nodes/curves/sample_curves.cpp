@@ -148,23 +148,66 @@ CurveSamples sample_curves(const Curves& curves, double spacing, const CurveSamp
 
 namespace {
 
-// One target curve's points, in parameter order, cut where neighbours lie more than `gap` apart. On a closed curve the
-// last run continues into the first across the start point when they meet; an uncut run round it is closed.
+// One target curve's points in walking order: from the first in parameter order, each step to the nearest point not
+// yet taken within `gap` (ties by index), else to the next untaken one in parameter order. Detail that folds back
+// along the target's curve (a serif's hook, a wave taller than it is wide) is so followed along itself, where an
+// order by parameter alone would zigzag across it.
+std::vector<Index> walk(const std::vector<Index>& order, const Eigen::Matrix3Xd& flat, double gap) {
+  const size_t n = order.size();
+  Eigen::Matrix3Xd p(3, Eigen::Index(n));
+  for (size_t j = 0; j < n; ++j) p.col(Eigen::Index(j)) = flat.col(order[j]);
+  KdTree tree;
+  tree.build(p);
+  std::vector<char> taken(n, 0);
+  std::vector<Index> out;
+  std::vector<Neighbor> near;
+  size_t first_untaken = 0;
+  Index at = -1;
+  for (size_t step = 0; step < n; ++step) {
+    Index pick = -1;
+    double best = 0;
+    if (at >= 0) tree.radius(p.col(at), gap, near);
+    for (const Neighbor& q : at >= 0 ? near : std::vector<Neighbor>{})
+      if (!taken[size_t(q.index)] &&
+          (pick < 0 || std::make_pair(q.distance2, Index(q.index)) < std::make_pair(best, pick)))
+        pick = q.index, best = q.distance2;
+    if (pick < 0) {
+      while (taken[first_untaken]) ++first_untaken;
+      pick = Index(first_untaken);
+    }
+    taken[size_t(pick)] = 1;
+    out.push_back(order[size_t(pick)]);
+    at = pick;
+  }
+  return out;
+}
+
+// One target curve's points, walked (above), cut where consecutive points lie more than `gap` apart, runs whose ends
+// meet joined again; a single run round a closed curve is closed.
 void runs_of_curve(const std::vector<Index>& order, const Eigen::Matrix3Xd& flat, bool closed, double gap,
                    Curves& out) {
   std::vector<std::vector<Index>> runs{{}};
-  for (const Index i : order) {
+  for (const Index i : walk(order, flat, gap)) {
     if (!runs.back().empty() && (flat.col(i) - flat.col(runs.back().back())).norm() > gap) runs.emplace_back();
     runs.back().push_back(i);
   }
   const auto meets = [&](Index a, Index b) { return (flat.col(a) - flat.col(b)).norm() <= gap; };
-  bool round = false;
-  if (closed && runs.size() > 1 && meets(runs.back().back(), runs.front().front())) {
-    runs.back().insert(runs.back().end(), runs.front().begin(), runs.front().end());
-    runs.erase(runs.begin());
-  } else if (closed && runs.size() == 1 && runs[0].size() >= 3) {
-    round = meets(runs[0].back(), runs[0].front());
+  // Runs whose ends meet are one (the seam of a closed curve, or a walk that set off backwards): joined, turned as
+  // needed, until no two meet.
+  const auto join = [&](std::vector<Index>& a, std::vector<Index>& b) {
+    if (meets(a.front(), b.front()) || meets(a.front(), b.back())) std::reverse(a.begin(), a.end());
+    if (!meets(a.back(), b.front()) && meets(a.back(), b.back())) std::reverse(b.begin(), b.end());
+    if (!meets(a.back(), b.front())) return false;
+    a.insert(a.end(), b.begin(), b.end());
+    return true;
+  };
+  for (bool joined = true; joined;) {
+    joined = false;
+    for (size_t a = 0; a < runs.size() && !joined; ++a)
+      for (size_t b = a + 1; b < runs.size() && !joined; ++b)
+        if ((joined = join(runs[a], runs[b]))) runs.erase(runs.begin() + std::ptrdiff_t(b));
   }
+  const bool round = closed && runs.size() == 1 && runs[0].size() >= 3 && meets(runs[0].back(), runs[0].front());
   for (const auto& run : runs) {
     if (run.size() < 2) continue;
     Polyline c;

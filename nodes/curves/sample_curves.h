@@ -17,9 +17,10 @@
 // neighbourhood.
 //
 // order_into_curves: output points back into polylines, by following the target's curves: each point takes the curve
-// and arc parameter of its nearest target sample (plus its offset along that sample's tangent); points are sorted by
-// (curve, parameter) and cut where consecutive points lie more than `gap` alpha apart; a cut-free run over a closed
-// target curve is closed.
+// and arc parameter of its nearest target sample (plus its offset along that sample's tangent); each curve's points
+// are walked from the lowest parameter to the nearest point not yet taken (so detail that folds back along the
+// target's curve, a serif's hook, is followed along itself) and cut where consecutive points lie more than `gap`
+// alpha apart; a cut-free run round a closed target curve is closed.
 #pragma once
 
 #include <cstdint>
