@@ -120,6 +120,36 @@ TEST(CurvesE2E, RotatedAndScaledCopiesGiveTheirSimilarities) {
   EXPECT_TRUE(scaled);
 }
 
+// The paper's Figure 8 (right): F is E's own strokes (the identity), D's stem is E's moved by 90, and D's bowl, which
+// E has no counterpart for, is copied by self-reference.
+TEST(CurvesE2E, LettersStyleFAndDWithSelfReferenceForTheBowl) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  run(load_config(test::source_dir() / "configs" / "curves_letters.yaml", {"output.dir=" + (dir / "out").string()}));
+  const nlohmann::json report = report_of(dir / "out");
+  bool identity = false, moved = false, self = false;
+  for (const auto& t : report["transforms"]) {
+    if (t["labelled"].get<Index>() == 0) continue;
+    const double tx = t["translation"][0].get<double>();
+    self |= t["kind"] == "self";
+    identity |= t["kind"] == "similarity" && t["rotation_deg"].get<double>() < 1 && std::abs(tx) < 2;
+    moved |= t["kind"] == "similarity" && t["rotation_deg"].get<double>() < 1 && std::abs(tx + 90) < 2;
+  }
+  EXPECT_TRUE(identity);
+  EXPECT_TRUE(moved);
+  EXPECT_TRUE(self);
+  // The serifs arrive: the exemplar's slabs reach 8 left of the stems (x = -8 and 82), the plain letters' do not.
+  const Curves output = read_curves(dir / "out" / "output.txt");
+  double min_x = 1e9, min_x_d = 1e9;
+  for (const Polyline& c : output)
+    for (Eigen::Index i = 0; i < c.points.cols(); ++i) {
+      min_x = std::min(min_x, c.points(0, i));
+      if (c.points(0, i) > 70) min_x_d = std::min(min_x_d, c.points(0, i));
+    }
+  EXPECT_NEAR(min_x, -8, 1.5);
+  EXPECT_NEAR(min_x_d, 82, 1.5);
+}
+
 // A drawing that cannot be read fails the run with one line naming the file and what is wrong, and leaves no output.
 void expect_refused(const std::string& exemplar_svg, const std::string& expected) {
   setup_logging(false, true);
