@@ -147,9 +147,7 @@ FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const Feat
   const RunConfig& config = state.config;
   const std::string role = role_name(in->input.role), name = "sample:" + role;
   return run_node(state, name, input_name(in->input.spec), [&](const ProgressFn&) {
-    double length = 0;
-    for (const Polyline& c : *in->curves) length += curve_length(c);
-    double spacing = curve_spacing(length, config.curves);
+    double spacing = curve_spacing(drawing_length(*in->curves), config.curves);
     if (reference) {  // one spacing alpha for all drawings, which must then share a scale (paper section 3)
       const Loaded& ref = *reference->sampled->loaded;
       check_shared_scale("the " + role, in->load.points, "the " + role_name(ref.input.role),

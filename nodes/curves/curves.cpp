@@ -73,6 +73,12 @@ double curve_length(const Polyline& curve) {
   return length;
 }
 
+double drawing_length(const Curves& curves) {
+  double length = 0;
+  for (const Polyline& c : curves) length += curve_length(c);
+  return length;
+}
+
 bool is_curve_extension(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);
   return ext == ".svg" || ext == ".txt" || ext == ".polyline";

@@ -20,6 +20,8 @@ using Curves = std::vector<Polyline>;
 
 // Arc length of a polyline, including the closing segment of a closed one.
 double curve_length(const Polyline& curve);
+// The total arc length of a drawing.
+double drawing_length(const Curves& curves);
 
 // Reads a drawing: .svg (read_svg) or .txt / .polyline (read_polylines), by extension (case-insensitive).
 // Throws IoError naming the file for anything unreadable, an unknown extension or a drawing with no curve.
