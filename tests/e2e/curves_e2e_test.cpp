@@ -72,6 +72,24 @@ TEST(CurvesE2E, SameBytesOnOneAndTwoThreads) {
     EXPECT_EQ(test::read_bytes(dir / "one" / name), test::read_bytes(dir / "two" / name)) << name;
 }
 
+// The same drawings as plain polyline files (written to 9 digits) give the same curves as their SVGs; a polyline may
+// run the other way round (its walk starts at a tie that the last digits break).
+TEST(CurvesE2E, PolylineFilesGiveWhatTheirSvgsGive) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  const auto configs = test::source_dir() / "configs" / "curves";
+  for (const char* name : {"square", "two_squares", "square_wavy"})
+    write_polylines(dir / (std::string(name) + ".txt"), read_curves(configs / (std::string(name) + ".svg")));
+  test::write_bytes(dir / "c.yaml",
+                    "mode: curves\ninputs: {source: square.txt, target: two_squares.txt, exemplar: square_wavy.txt}\n"
+                    "vote: {allow_scale: false}\n");
+  run(load_config(dir / "c.yaml", {"output.dir=" + (dir / "txt").string()}));
+  run(iq_config(dir / "svg", 2));
+  const Curves txt = read_curves(dir / "txt" / "output.txt"), svg = read_curves(dir / "svg" / "output.txt");
+  EXPECT_EQ(txt.size(), svg.size());
+  EXPECT_LT(evaluate(dense(txt), dense(svg), {}).hausdorff, 1e-4);
+}
+
 // An asymmetric smooth blob (curvature varies along it, so a single sample's curvature tells the scale).
 std::vector<Eigen::Vector2d> blob() {
   std::vector<Eigen::Vector2d> p;
