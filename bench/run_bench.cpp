@@ -30,6 +30,7 @@ const bool registered = [] {
   } runs[] = {{"vase", "vase.yaml", 2},
               {"vase_40k", "vase_40k.yaml", 1},
               {"furniture_transfer", "furniture_transfer.yaml", 2},
+              {"curves_iq", "curves_iq.yaml", 5},
               {"vase_1m", "vase_1m.yaml", 1},
               {"vase_10m", "vase_10m.yaml", 1}};
   for (const auto& r : runs)

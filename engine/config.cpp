@@ -222,8 +222,10 @@ std::string yaml_value(const FieldRef& ref) {
 }  // namespace
 
 const std::vector<std::pair<std::string, RunMode>>& mode_names() {
-  static const std::vector<std::pair<std::string, RunMode>> modes{
-      {"completion", RunMode::kCompletion}, {"transfer", RunMode::kTransfer}, {"analogy", RunMode::kAnalogy}};
+  static const std::vector<std::pair<std::string, RunMode>> modes{{"completion", RunMode::kCompletion},
+                                                                  {"transfer", RunMode::kTransfer},
+                                                                  {"analogy", RunMode::kAnalogy},
+                                                                  {"curves", RunMode::kCurves}};
   return modes;
 }
 
@@ -246,6 +248,7 @@ const std::vector<Role>& roles_for_mode(RunMode mode) {
     case RunMode::kCompletion:
       return completion;
     case RunMode::kTransfer:
+    case RunMode::kCurves:
       return transfer;
     case RunMode::kAnalogy:
       break;
@@ -268,7 +271,7 @@ const std::vector<std::pair<std::string, ColourChoice>>& colour_choice_names() {
 }
 
 bool makes_surface(const RunConfig& config) {
-  if (config.mode == RunMode::kAnalogy) return false;
+  if (config.mode == RunMode::kAnalogy || config.mode == RunMode::kCurves) return false;
   if (config.output_surface == SurfaceChoice::kAuto) return config.mode == RunMode::kCompletion;
   return config.output_surface == SurfaceChoice::kPoisson;
 }
@@ -296,6 +299,8 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
   }
   if (config.mode == RunMode::kAnalogy && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode analogy writes no output.ply to mesh: expected auto or none"});
+  if (config.mode == RunMode::kCurves && config.output_surface == SurfaceChoice::kPoisson)
+    problems.push_back({"output.surface", "mode curves writes curves, not a surface: expected auto or none"});
   std::vector<std::string> roles;
   for (const Role role : roles_for_mode(config.mode)) roles.push_back(role_name(role));
   for (const Role role : roles_for_mode(config.mode)) {
@@ -306,7 +311,11 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
                                         "' (inputs: " + join(roles) + ")"});
       continue;
     }
-    if (const auto problem = check_input(it->spec)) problems.push_back({"inputs." + role_name(role), *problem});
+    const bool drawing = config.mode == RunMode::kCurves;
+    if (const auto problem = drawing ? check_drawing_input(it->spec) : check_input(it->spec))
+      problems.push_back({"inputs." + role_name(role), *problem});
+    if (drawing && !it->fragments.empty())
+      problems.push_back({"inputs." + role_name(role), "mode curves takes one drawing per input, not a list"});
     if (!it->fragments.empty() && role == Role::kScan && config.virtual_scan.eye)
       problems.push_back({"virtual_scan.eye",
                           "a scan given as fragments is not scanned again: remove virtual_scan.eye "
@@ -556,6 +565,7 @@ std::string default_config_yaml() {
     << "                            # ring as the defaults below (label.*, support.normal_angle_deg; keys override)\n"
     << "inputs:                     # completion: scan, template; transfer: source, target, exemplar;\n"
     << "                            # analogy: source, target. A file (.ply .pcd .obj .off .stl .xyz)\n"
+    << "                            # curves: source, target, exemplar, each a drawing (.svg .txt .polyline)\n"
     << "                            # or procedural:NAME (" << join(shape_names()) << "),\n"
     << "                            # or revolution:FILE (the body of revolution about z of a model: a template)\n"
     << "                            # scan and exemplar may be a list of fragments, registered together\n"

@@ -13,6 +13,7 @@
 
 #include "nodes/align/align.h"
 #include "nodes/correspond/correspond.h"
+#include "nodes/curves/sample_curves.h"
 #include "nodes/features/estimate_features.h"
 #include "nodes/input/input.h"
 #include "nodes/label/label.h"
@@ -28,10 +29,10 @@
 namespace scanfill {
 
 // What a run makes (DESIGN section 1); each mode has its own graph builder (pipeline.cpp).
-enum class RunMode { kCompletion, kTransfer, kAnalogy };
+enum class RunMode { kCompletion, kTransfer, kAnalogy, kCurves };
 
-// The part an input plays: completion takes scan + template, transfer source + target + exemplar, analogy source +
-// target.
+// The part an input plays: completion takes scan + template, transfer and curves source + target + exemplar, analogy
+// source + target.
 enum class Role { kScan, kTemplate, kSource, kTarget, kExemplar };
 
 // One input of the run: its role and what the config wrote for it (a file, procedural:NAME, revolution:...).
@@ -83,6 +84,7 @@ struct RunConfig {
   AlignOptions align;
   VirtualScanOptions virtual_scan;
   SurfaceOptions surface;
+  CurveSampleOptions curves;          // mode curves: the drawings' samples and the output's polylines
   std::filesystem::path config_path;  // the file it was read from
 };
 

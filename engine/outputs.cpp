@@ -10,6 +10,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/correspond/correspondence_view.h"
+#include "nodes/curves/curves.h"
 #include "nodes/io/write_ply.h"
 #include "nodes/io/write_png.h"
 #include "nodes/render/render.h"
@@ -297,6 +298,54 @@ void write_preview(const RunState& state, RunOutcome& outcome) {
   outcome.outputs.push_back(path);
 }
 
+std::string css_colour(const std::array<double, 3>& c) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", int(c[0]), int(c[1]), int(c[2]));
+  return buf;
+}
+
+const Featured& input_of(const RunState& state, Role role) {
+  for (size_t slot = 0; slot < state.config.inputs.size(); ++slot)
+    if (state.config.inputs[slot].role == role) return *state.inputs()[slot];
+  throw InvariantError("no input '" + role_name(role) + "'");
+}
+
+// Mode curves: output.svg and output.txt (the output's polylines), analogy.svg (the target's samples coloured by
+// transform over its curves) and preview.png (source, target by transform, exemplar, output by transform, in the
+// plane); the report's drawing.
+void write_curves(const RunState& state, const Drawn& d, nlohmann::json& report, RunOutcome& outcome) {
+  const Labelled& a = *d.transferred->aligned->synthesized->analogy;
+  const double spacing = a.votes().spacing(), stroke = 0.25 * spacing;
+  std::vector<SvgStroke> strokes;
+  for (const Polyline& c : d.curves) strokes.push_back({c, "#000000", stroke});
+  const auto& dir = state.write_dir;
+  write_svg(dir / "output.svg", strokes, {}, 0);
+  write_polylines(dir / "output.txt", d.curves);
+  const Featured& target = *a.votes().target();
+  std::vector<SvgStroke> grey;
+  for (const Polyline& c : *target.sampled->loaded->curves) grey.push_back({c, "#d0d0d0", stroke});
+  std::vector<SvgDot> dots;
+  for (size_t i = 0; i < a.labels.labels.size(); ++i)
+    dots.push_back({target.features.points.positions().col(Index(i)).head<2>(),
+                    css_colour(label_colour(a.labels.labels[i], a.labels.self_label))});
+  write_svg(dir / "analogy.svg", grey, dots, 0.4 * spacing);
+  const Featured &source = input_of(state, Role::kSource), &exemplar = input_of(state, Role::kExemplar);
+  PreviewPanel labelled{&target.features.points, {}, spacing}, output{&d.transferred->output.points, {}, spacing};
+  for (const int l : a.labels.labels) labelled.colours.push_back(rgb_of(label_colour(l, a.labels.self_label)));
+  for (const int l : d.transferred->output.label)
+    output.colours.push_back(rgb_of(label_colour(l, a.labels.self_label)));
+  const std::vector<PreviewPanel> panels{{&source.features.points, {Rgb{40, 40, 40}}, spacing},
+                                         std::move(labelled),
+                                         {&exemplar.features.points, {Rgb{40, 40, 40}}, spacing},
+                                         std::move(output)};
+  write_png(dir / "preview.png", plane_image(panels));
+  for (const char* name : {"output.svg", "output.txt", "analogy.svg", "preview.png"})
+    outcome.outputs.push_back(dir / name);
+  Index points = 0, closed = 0;
+  for (const Polyline& c : d.curves) points += c.points.cols(), closed += c.closed;
+  report["drawing"] = {{"polylines", d.curves.size()}, {"closed", closed}, {"points", points}};
+}
+
 // The symmetries found and the candidates they gave (DESIGN section 9).
 nlohmann::json symmetry_json(const Labelled& a) {
   const auto axes = [](const SymmetryResult& sym) {
@@ -332,6 +381,12 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
     const Index used = std::count_if(transforms.begin(), transforms.end(), [](const nlohmann::json& t) {
       return t["kind"] == "similarity" && t["labelled"].get<Index>() > 0;
     });
+    if (config.mode == RunMode::kCurves)
+      s << "scanfill: stylised drawing: " << report["drawing"]["polylines"].get<Index>() << " polylines of "
+        << report["drawing"]["points"].get<Index>() << " points\n"
+        << "  output.svg, output.txt: the stylised curves (SVG paths; 'x y' lines, a blank line between curves)\n"
+        << "  analogy.svg: the target coloured by transform (grey = self-reference)\n"
+        << "  preview.png: source, target by transform, exemplar and output, side by side\n";
     s << "scanfill: " << (completion ? "completed scan" : "stylised model") << ": " << o["points"].get<Index>()
       << " points";
     if (o["faces"].get<Index>() > 0) s << ", " << o["faces"].get<Index>() << " triangles";
@@ -381,7 +436,10 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
     energy = {{"before", state.analogy()->labels.energy_before}, {"after", state.analogy()->labels.energy_after}};
     report["symmetry"] = symmetry_json(*state.analogy());
   }
-  write_preview(state, outcome);
+  if (state.drawing())
+    write_curves(state, *state.drawing(), report, outcome);
+  else
+    write_preview(state, outcome);
   state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
   nlohmann::json node_list = nlohmann::json::array();

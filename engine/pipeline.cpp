@@ -79,6 +79,25 @@ Branch add_input_branch(Wiring& w, Role role, const Branch* reference = nullptr)
   return {sampled, &features};
 }
 
+// Mode curves, one drawing's branch: load -> sample (arc-length samples with their frames, the plane's features). Every
+// drawing but the target is sampled at the target's spacing: its sample node waits for the target's samples.
+Branch add_curve_branch(Wiring& w, Role role, const Branch* reference = nullptr) {
+  const Input& input = input_for(w.state.config, role);
+  auto& load = w.node<flow::continue_msg, LoadedPtr>(
+      [&w, input](flow::continue_msg) { return load_curves_stage(w.state, input); });
+  flow::make_edge(w.start, load);
+  if (!reference) {
+    auto& sample =
+        w.node<LoadedPtr, FeaturedPtr>([&w](const LoadedPtr& in) { return sample_curves_stage(w.state, in, {}); });
+    flow::make_edge(load, sample);
+    return {nullptr, &sample};
+  }
+  auto& sample = w.node<std::tuple<LoadedPtr, FeaturedPtr>, FeaturedPtr>(
+      [&w](const auto& in) { return sample_curves_stage(w.state, std::get<0>(in), std::get<1>(in)); });
+  flow::make_edge(w.join(load, *reference->features), sample);
+  return {nullptr, &sample};
+}
+
 // M: correspond(exemplar, source).
 flow::sender<CorrespondencePtr>& add_correspond(Wiring& w, const Branch& exemplar, const Branch& source) {
   auto& correspond = w.node<std::tuple<FeaturedPtr, FeaturedPtr>, CorrespondencePtr>(
@@ -109,17 +128,19 @@ flow::sender<LabelledPtr>& add_analogy(Wiring& w, const Branch& source, const Br
   return add_analogy_chain(w, symmetry);
 }
 
-// synthesized -> align -> transfer (-> surface, when output.surface asks for one).
-void add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize, bool to_scan_frame) {
+// synthesized -> align -> transfer (-> surface, when output.surface asks for one); returns transfer.
+flow::sender<TransferredPtr>& add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize,
+                                                 bool to_scan_frame) {
   auto& align = w.node<SynthesizedPtr, AlignedPtr>([&w](const SynthesizedPtr& in) { return align_stage(w.state, in); });
   auto& transfer = w.node<AlignedPtr, TransferredPtr>(
       [&w, to_scan_frame](const AlignedPtr& in) { return transfer_stage(w.state, in, to_scan_frame); });
   flow::make_edge(synthesize, align);
   flow::make_edge(align, transfer);
-  if (!makes_surface(w.state.config)) return;
+  if (!makes_surface(w.state.config)) return transfer;
   auto& surface =
       w.node<TransferredPtr, SurfacedPtr>([&w](const TransferredPtr& in) { return surface_stage(w.state, in); });
   flow::make_edge(transfer, surface);
+  return transfer;
 }
 
 // correspond(scan, template) -> cover: S = the template samples the scan covers -> symmetry(S, template) -> vote ->
@@ -143,14 +164,29 @@ void build_completion(Wiring& w) {
 
 // correspond(exemplar, source) and vote(source, target) -> ... -> label have no dependency on each other and run in
 // parallel; synthesize joins them.
-void build_transfer(Wiring& w) {
-  const Branch target = add_input_branch(w, Role::kTarget);
-  const Branch source = add_input_branch(w, Role::kSource, &target);
-  const Branch exemplar = add_input_branch(w, Role::kExemplar, &target);
+flow::sender<TransferredPtr>& add_style_transfer(Wiring& w, const Branch& target, const Branch& source,
+                                                 const Branch& exemplar) {
   auto& synthesize = w.node<std::tuple<CorrespondencePtr, LabelledPtr>, SynthesizedPtr>(
       [&w](const auto& in) { return synthesize_stage(w.state, std::get<0>(in), std::get<1>(in), nullptr); });
   flow::make_edge(w.join(add_correspond(w, exemplar, source), add_analogy(w, source, target)), synthesize);
-  add_align_transfer(w, synthesize, false);
+  return add_align_transfer(w, synthesize, false);
+}
+
+void build_transfer(Wiring& w) {
+  const Branch target = add_input_branch(w, Role::kTarget);
+  const Branch source = add_input_branch(w, Role::kSource, &target);
+  add_style_transfer(w, target, source, add_input_branch(w, Role::kExemplar, &target));
+}
+
+// The same graph on 2D drawings, in the z = 0 plane (vote and symmetry keep to motions of the plane: their `planar`
+// options, set by the stages in this mode); then draw: the output points as polylines along the target's curves.
+void build_curves(Wiring& w) {
+  const Branch target = add_curve_branch(w, Role::kTarget);
+  const Branch source = add_curve_branch(w, Role::kSource, &target);
+  auto& transfer = add_style_transfer(w, target, source, add_curve_branch(w, Role::kExemplar, &target));
+  auto& draw =
+      w.node<TransferredPtr, DrawnPtr>([&w](const TransferredPtr& in) { return draw_curves_stage(w.state, in); });
+  flow::make_edge(transfer, draw);
 }
 
 // vote(source, target) -> modes -> support -> label: the labelled target is the output.
@@ -185,6 +221,9 @@ RunOutcome run(const RunConfig& config) {
       break;
     case RunMode::kAnalogy:
       build_analogy(w);
+      break;
+    case RunMode::kCurves:
+      build_curves(w);
       break;
   }
   w.run();

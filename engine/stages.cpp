@@ -38,6 +38,11 @@ void RunState::keep(TransferredPtr t) {
   output_ = std::move(t);
 }
 
+void RunState::keep(DrawnPtr d) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  drawing_ = std::move(d);
+}
+
 void RunState::keep(SurfacedPtr s) {
   std::lock_guard<std::mutex> lock(mutex_);
   surface_ = std::move(s);
@@ -79,7 +84,7 @@ LoadedPtr load_stage(RunState& state, const Input& input) {
       throw InputError("output.colour is 'scan' but the " + role +
                        " has no colours (PLY red green blue, PCD rgb or rgba, XYZ or OBJ r g b): use auto or origin");
     const BoundingBox box = input_bounds(load);
-    auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});
+    auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box, nullptr});
     for (const auto& w : loaded->load.warnings) state.warn(name, w);
     node_logger("load")->info("{}: {} points, {} faces ({} {}) from {}", role, loaded->load.points.size(),
                               loaded->load.points.faces().cols(), loaded->load.format, loaded->load.encoding, subject);
@@ -103,7 +108,7 @@ SampledPtr sample_stage(RunState& state, const LoadedPtr& in, const SampledPtr& 
         options.all_points_when_sparse = true;  // a scan sparser than the template's alpha is used as it is
       }
     }
-    auto out = std::make_shared<Sampled>(Sampled{in, sample(in->load.points, options, progress)});
+    auto out = std::make_shared<Sampled>(Sampled{in, sample(in->load.points, options, progress), nullptr});
     for (const auto& w : out->sample.warnings) state.warn(name, w);
     node_logger("sample")->info("{}: {} samples from {} candidates, spacing {:.4g}, {} rounds", role,
                                 out->sample.samples.size(), out->sample.candidates, out->sample.spacing,
@@ -122,6 +127,52 @@ FeaturedPtr features_stage(RunState& state, const SampledPtr& in) {
         ->info("{}: normals oriented by '{}', {} unreliable directions smoothed ({} CG iterations)", role,
                to_string(out->features.orientation_used), out->features.unreliable_directions,
                out->features.iterations);
+    state.keep(out);
+    return FeaturedPtr(std::move(out));
+  });
+}
+
+LoadedPtr load_curves_stage(RunState& state, const Input& input) {
+  const std::string role = role_name(input.role), name = "load:" + role;
+  return run_node(state, name, input_name(input.spec), [&](const ProgressFn&) {
+    auto curves = std::make_shared<const Curves>(read_curves(input.spec.path));
+    LoadResult load;
+    load.points = curve_vertices(*curves);
+    load.format = input.spec.path.extension().string().substr(1);
+    load.encoding = "ascii";
+    load.file_points = load.points.size();
+    const BoundingBox box = input_bounds(load);
+    node_logger("load")->info("{}: {} curves, {} vertices from {}", role, curves->size(), load.points.size(),
+                              input_name(input.spec));
+    return LoadedPtr(std::make_shared<Loaded>(Loaded{input, std::move(load), box, std::move(curves)}));
+  });
+}
+
+FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const FeaturedPtr& reference) {
+  const RunConfig& config = state.config;
+  const std::string role = role_name(in->input.role), name = "sample:" + role;
+  return run_node(state, name, input_name(in->input.spec), [&](const ProgressFn&) {
+    double spacing = curve_spacing(drawing_length(*in->curves), config.curves);
+    if (reference) {  // one spacing alpha for all drawings, which must then share a scale (paper section 3)
+      const Loaded& ref = *reference->sampled->loaded;
+      check_shared_scale("the " + role, in->load.points, "the " + role_name(ref.input.role),
+                         curve_vertices(*ref.curves), config.correspond.max_scale_ratio);
+      spacing = reference->sampled->sample.spacing;
+    }
+    auto samples = std::make_shared<const CurveSamples>(sample_curves(*in->curves, spacing, config.curves));
+    // The samples are the drawing's points from here on: transfer carries them, one output point each.
+    LoadResult load{samples->samples, in->load.format, in->load.encoding, in->load.file_points, 0, {}};
+    auto loaded = std::make_shared<const Loaded>(Loaded{in->input, std::move(load), in->box, in->curves});
+    SampleResult sample;
+    sample.samples = samples->samples;
+    sample.candidates = in->load.points.size();
+    sample.spacing = spacing;
+    auto sampled = std::make_shared<const Sampled>(Sampled{loaded, std::move(sample), samples});
+    auto out = std::make_shared<Featured>(Featured{sampled, {}});
+    out->features.points = samples->samples;
+    out->features.orientation_used = NormalOrientation::kInput;
+    node_logger("sample")->info("{}: {} samples along {} curves of length {:.4g}, spacing {:.4g}", role,
+                                samples->samples.size(), in->curves->size(), samples->length, spacing);
     state.keep(out);
     return FeaturedPtr(std::move(out));
   });
@@ -184,8 +235,10 @@ SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const Feat
     s->source = source;
     s->target = target;
     s->spacing = target->sampled->sample.spacing;
-    s->source_symmetry = find_symmetries(source, s->spacing, state.config.symmetry);
-    s->target_symmetry = find_symmetries(target->features.points, s->spacing, state.config.symmetry);
+    SymmetryOptions options = state.config.symmetry;
+    options.planar = state.config.mode == RunMode::kCurves;
+    s->source_symmetry = find_symmetries(source, s->spacing, options);
+    s->target_symmetry = find_symmetries(target->features.points, s->spacing, options);
     node_logger("symmetry")
         ->info("source: {}; target: {} ({} rotations)", describe(s->source_symmetry), describe(s->target_symmetry),
                s->target_symmetry.rotations.size());
@@ -197,7 +250,9 @@ VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
   return run_node(state, "vote", "", [&](const ProgressFn&) {
     auto v = std::make_shared<Votes>();
     v->symmetries = in;
-    v->votes = vote(in->source, in->target->features.points, in->spacing, state.config.vote);
+    VoteOptions options = state.config.vote;
+    options.planar = state.config.mode == RunMode::kCurves;
+    v->votes = vote(in->source, in->target->features.points, in->spacing, options);
     // A source symmetric about an axis votes for rings of equivalent motions: one mode per ring (DESIGN section 9).
     if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous);
     node_logger("vote")->info("{} votes from {} target samples{}", v->votes.embedding.cols(),
@@ -334,6 +389,20 @@ SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
         state.config.surface.trim_distance);
     state.keep(out);
     return SurfacedPtr(std::move(out));
+  });
+}
+
+DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in) {
+  return run_node(state, "draw", "", [&](const ProgressFn&) {
+    const Featured& target = *in->aligned->synthesized->analogy->votes().target();
+    auto out = std::make_shared<Drawn>(
+        Drawn{in, order_into_curves(in->output.points.positions(), *target.sampled->curves, state.config.curves)});
+    Index closed = 0;
+    for (const Polyline& c : out->curves) closed += c.closed;
+    node_logger("draw")->info("{} output points as {} polylines ({} closed)", in->output.points.size(),
+                              out->curves.size(), closed);
+    state.keep(out);
+    return DrawnPtr(std::move(out));
   });
 }
 

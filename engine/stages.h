@@ -13,6 +13,8 @@
 
 #include "engine/config.h"
 #include "engine/pipeline.h"
+#include "nodes/curves/curves.h"
+#include "nodes/curves/sample_curves.h"
 #include "nodes/surface/surface.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"
@@ -22,11 +24,13 @@ namespace scanfill {
 struct Loaded {
   Input input;
   LoadResult load;
-  BoundingBox box;  // of load.points, for the report
+  BoundingBox box;                       // of load.points, for the report
+  std::shared_ptr<const Curves> curves;  // mode curves: the drawing (load.points are its samples once sampled)
 };
 struct Sampled {
   std::shared_ptr<const Loaded> loaded;
   SampleResult sample;
+  std::shared_ptr<const CurveSamples> curves;  // mode curves: each sample's curve and arc parameter
 };
 struct Featured {
   std::shared_ptr<const Sampled> sampled;
@@ -104,6 +108,13 @@ struct Transferred {
 };
 using TransferredPtr = std::shared_ptr<const Transferred>;
 
+// Mode curves: the output points as polylines along the target's curves (output.svg, output.txt).
+struct Drawn {
+  TransferredPtr transferred;
+  Curves curves;
+};
+using DrawnPtr = std::shared_ptr<const Drawn>;
+
 // output.surface: the output points meshed (output_mesh.ply).
 struct Surfaced {
   TransferredPtr transferred;
@@ -125,6 +136,7 @@ class RunState {
   void keep(LabelledPtr a);
   void keep(TransferredPtr t);
   void keep(SurfacedPtr s);
+  void keep(DrawnPtr d);
 
   // After the graph has run.
   const std::vector<NodeTiming>& timings() const { return timings_; }
@@ -133,6 +145,7 @@ class RunState {
   const LabelledPtr& analogy() const { return analogy_; }
   const TransferredPtr& output() const { return output_; }
   const SurfacedPtr& surface() const { return surface_; }  // null unless output.surface made one
+  const DrawnPtr& drawing() const { return drawing_; }     // mode curves only
 
  private:
   std::mutex mutex_;
@@ -142,12 +155,17 @@ class RunState {
   LabelledPtr analogy_;
   TransferredPtr output_;
   SurfacedPtr surface_;
+  DrawnPtr drawing_;
 };
 
 // The node bodies. `reference`: the input whose spacing alpha this one is sampled at (nullptr: as configured).
 LoadedPtr load_stage(RunState& state, const Input& input);
 SampledPtr sample_stage(RunState& state, const LoadedPtr& in, const SampledPtr& reference);
 FeaturedPtr features_stage(RunState& state, const SampledPtr& in);
+// Mode curves: a drawing read, then sampled with its frames (the plane's sample and features in one node, since the
+// frames come from the curve itself); every drawing at the spacing of `reference` (the target's) when given.
+LoadedPtr load_curves_stage(RunState& state, const Input& input);
+FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const FeaturedPtr& reference);
 CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar, const FeaturedPtr& source);
 CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence);
 SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target);
@@ -161,5 +179,7 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
 // `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
 TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
 SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in);
+// Mode curves: the output points ordered into polylines along the target's curves.
+DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);
 
 }  // namespace scanfill

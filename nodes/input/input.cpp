@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "nodes/curves/curves.h"
 #include "nodes/procedural/shapes.h"
 
 namespace scanfill {
@@ -45,6 +46,18 @@ std::optional<std::string> check_input(const InputSpec& spec) {
   if (!is_supported_extension(spec.path))
     return "unknown format '" + spec.path.extension().string() + "' of " + spec.path.string() +
            " (expected .ply, .pcd, .obj, .off, .stl or .xyz)";
+  return std::nullopt;
+}
+
+std::optional<std::string> check_drawing_input(const InputSpec& spec) {
+  if (!spec.procedural.empty() || spec.revolution)
+    return "mode curves reads drawings from files (.svg, .txt or .polyline), got '" + spec.text + "'";
+  std::error_code ec;
+  if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
+  if (!std::filesystem::is_regular_file(spec.path, ec)) return "not a regular file: " + spec.path.string();
+  if (!is_curve_extension(spec.path))
+    return "unknown drawing format '" + spec.path.extension().string() + "' of " + spec.path.string() +
+           " (expected .svg, .txt or .polyline)";
   return std::nullopt;
 }
 

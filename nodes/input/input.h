@@ -30,6 +30,10 @@ InputSpec parse_input(const std::string& text, const std::filesystem::path& base
 // Why `spec` cannot be loaded (unknown shape, missing file, unknown format), or nothing when it can be tried.
 std::optional<std::string> check_input(const InputSpec& spec);
 
+// Why `spec` cannot be read as a drawing of mode curves (procedural, missing file, not .svg / .txt / .polyline), or
+// nothing.
+std::optional<std::string> check_drawing_input(const InputSpec& spec);
+
 // What to call the input in messages: the resolved path, or the text of a procedural input.
 std::string input_name(const InputSpec& spec);
 

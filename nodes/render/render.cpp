@@ -130,4 +130,31 @@ Image preview_image(const std::vector<PreviewPanel>& panels, size_t frame, const
   return tile_images(images, int(panels.size()));
 }
 
+Image plane_image(const std::vector<PreviewPanel>& panels, int panel_size) {
+  if (panels.empty()) throw InvariantError("plane_image: no panels");
+  BoundingBox box = bounding_box(panels[0].points->positions());
+  for (const PreviewPanel& p : panels) {
+    const BoundingBox b = bounding_box(p.points->positions());
+    box.min = box.min.cwiseMin(b.min);
+    box.max = box.max.cwiseMax(b.max);
+  }
+  // Seen from below the plane with up = -y: right is +x and down is +y, as in an SVG viewer.
+  Camera camera;
+  camera.fov_deg = 30;
+  camera.target = 0.5 * (box.min + box.max);
+  camera.up = -Eigen::Vector3d::UnitY();
+  const double extent = std::max((box.max - box.min).head<2>().maxCoeff(), 1e-9);
+  const double distance = 0.55 * extent / std::tan(0.5 * camera.fov_deg * M_PI / 180);
+  camera.eye = camera.target - distance * Eigen::Vector3d::UnitZ();
+  const double focal = 0.5 * panel_size / std::tan(0.5 * camera.fov_deg * M_PI / 180);
+  std::vector<Image> images;
+  for (const PreviewPanel& panel : panels) {
+    Image image = blank_image(panel_size, panel_size);
+    const double radius = std::clamp(0.6 * focal * panel.spacing / distance, 1.0, 4.0);
+    render_points(PointSet(panel.points->positions()), panel.colours, camera, radius, image);  // unshaded
+    images.push_back(std::move(image));
+  }
+  return tile_images(images, int(panels.size()));
+}
+
 }  // namespace scanfill

@@ -49,4 +49,8 @@ struct PreviewPanel {
 Image preview_image(const std::vector<PreviewPanel>& panels, size_t frame, const std::optional<Eigen::Vector3d>& eye,
                     int panel_size = 360);
 
+// Drawings of the plane z = 0 (mode curves), one panel each in a row, all on one scale framed on the panels' common
+// bounding box, as an SVG viewer shows them (x to the right, y down); points as flat discs, unshaded.
+Image plane_image(const std::vector<PreviewPanel>& panels, int panel_size = 360);
+
 }  // namespace scanfill

@@ -118,7 +118,9 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
   // Angles no order up to 12 explains: a rotation that holds at all of them is continuous.
   const double continuous_deg[] = {7.0, 47.0, 133.0};
   std::vector<Similarity> generators;
-  for (const auto& axis : candidate_axes(shape.positions(), centroid)) {
+  const std::vector<Eigen::Vector3d> axes =
+      o.planar ? std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitZ()} : candidate_axes(shape.positions(), centroid);
+  for (const auto& axis : axes) {
     // The centre that fits the axis better, judged on a half turn or the smallest continuous test angle.
     const auto score_at = [&](const Eigen::Vector3d& c) {
       return std::max(scorer.overlap(rotation_about(c, axis, M_PI)),

@@ -39,6 +39,8 @@ struct SymmetryOptions {
   int max_group = 48;            // most discrete symmetries kept; [1, 1000]
   Index test_samples = 3000;     // samples each rotation is scored on (an even subsample); >= 10
   int max_base_transforms = 6;   // found transforms composed with the symmetries, strongest first; >= 0
+  bool planar = false;  // only the z axis (mode curves; set by the engine, no key): a half turn about an axis of the
+                        // plane maps a drawing to its mirror image, which is no motion of the plane
 };
 
 struct SymmetryAxis {

@@ -15,10 +15,12 @@ namespace {
 
 constexpr double kFlatSignature = 10.0;  // k2/k1 lies in [-1, 1]; flat points get a class of their own
 
-double signature(const PointSet& p, Index i, double spacing, double flat) {
+// k2/k1 on a surface; on a curve of the plane (k2 = 0) the dimensionless k1 alpha, clamped into [-1, 1] (a curve has
+// no scale-free signature of one sample: a scaled partner lies further off in signature, hence curve_matches).
+double signature(const PointSet& p, Index i, double spacing, double flat, bool planar) {
   const double k1 = p.curvatures()(0, i), k2 = p.curvatures()(1, i);
   if (std::abs(k1) * spacing < flat) return kFlatSignature;
-  return k2 / k1;
+  return planar ? std::clamp(k1 * spacing, -1.0, 1.0) : k2 / k1;
 }
 
 Eigen::Matrix3d frame(const PointSet& p, Index i, int variant) {
@@ -54,13 +56,13 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
   // Source points sorted by signature.
   std::vector<std::pair<double, std::int32_t>> by_sig(static_cast<size_t>(source.size()));
   for (Index i = 0; i < source.size(); ++i)
-    by_sig[size_t(i)] = {signature(source, i, spacing, o.flat_curvature), std::int32_t(i)};
+    by_sig[size_t(i)] = {signature(source, i, spacing, o.flat_curvature, o.planar), std::int32_t(i)};
   std::sort(by_sig.begin(), by_sig.end());
 
   // Voting target points: a seeded sample without replacement, of the curved points when there are enough.
   std::vector<std::int32_t> voters;
   for (Index t = 0; t < target.size(); ++t)
-    if (signature(target, t, spacing, o.flat_curvature) != kFlatSignature) voters.push_back(std::int32_t(t));
+    if (signature(target, t, spacing, o.flat_curvature, o.planar) != kFlatSignature) voters.push_back(std::int32_t(t));
   if (double(voters.size()) < o.min_curved_fraction * double(target.size())) {
     voters.resize(static_cast<size_t>(target.size()));
     std::iota(voters.begin(), voters.end(), 0);
@@ -75,19 +77,20 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
 
   // Each voter's votes in its own slot range: deterministic order on any thread count.
   const int per_pair_max = 4;
-  const size_t slot = size_t(o.matches_per_point) * per_pair_max;
+  const int matches = o.planar ? o.curve_matches : o.matches_per_point;
+  const size_t slot = size_t(matches) * per_pair_max;
   VoteMatrix all(13, Index(voters.size() * slot));
   std::vector<std::int32_t> owner(voters.size() * slot, -1);
   const double log_min = std::log(o.min_scale), log_max = std::log(o.max_scale);
   tbb::parallel_for(size_t(0), voters.size(), [&](size_t v) {
     const Index t = voters[v];
-    const double sig = signature(target, t, spacing, o.flat_curvature);
+    const double sig = signature(target, t, spacing, o.flat_curvature, o.planar);
     const bool t_flat = sig == kFlatSignature;
-    // The matches_per_point nearest signatures: expand a window around the insertion point.
+    // The `matches` nearest signatures: expand a window around the insertion point.
     auto hi = std::lower_bound(by_sig.begin(), by_sig.end(), std::make_pair(sig, std::int32_t(-1)));
     auto lo = hi;
     size_t out = v * slot;
-    for (int m = 0; m < o.matches_per_point && (lo != by_sig.begin() || hi != by_sig.end()); ++m) {
+    for (int m = 0; m < matches && (lo != by_sig.begin() || hi != by_sig.end()); ++m) {
       const bool take_lo = hi == by_sig.end() || (lo != by_sig.begin() && sig - (lo - 1)->first <= hi->first - sig);
       const auto it = take_lo ? --lo : hi++;
       const Index s = it->second;
@@ -105,7 +108,8 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
       }
       const bool umbilic =
           t_flat || std::abs(target.curvatures()(1, t)) > o.umbilic_ratio * std::abs(target.curvatures()(0, t));
-      const int variants = umbilic ? 4 : 2;
+      // In the plane, d1 = z x n fixes the frame: the other variants turn z over (a mirror image) or out of the plane.
+      const int variants = o.planar ? 1 : umbilic ? 4 : 2;
       const Eigen::Matrix3d Fs = frame(source, s, 0);
       for (int var = 0; var < variants; ++var) {
         Similarity q;

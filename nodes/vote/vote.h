@@ -10,6 +10,9 @@
 // flood the vote space with sliding transforms (as Mitra et al. note, pruning low-curvature points): they vote only
 // when fewer than `min_curved_fraction` of the target points are curved. Each vote is embedded as the 13-vector of
 // nodes/core/analogy.h, with the weights rotation_weight, translation_weight and scale_weight.
+// `planar` (mode curves: samples of 2D curves at z = 0, k2 = 0, d1 = z x n, nodes/curves/sample_curves.h): the 2D
+// similarity group only (rotation about z, translation in the plane, scale): one vote per pair, from the frame itself,
+// and the signature is k1 alpha, the curve's one curvature; each voter pairs with its curve_matches nearest.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +27,8 @@ namespace scanfill {
 struct VoteOptions {
   Index target_samples = 4000;        // target points that vote; >= 1
   int matches_per_point = 12;         // source points each voting target point pairs with; [1, 256]
+  int curve_matches = 48;             // the same on curves (planar): their signature k1 alpha is not scale-free, so
+                                      // a scaled partner lies further off in it; [1, 1024]
   bool allow_scale = true;            // similarity (true) or rigid (false) transforms
   double min_scale = 0.25;            // scales outside [min_scale, max_scale] are not voted for; > 0
   double max_scale = 4.0;             // >= min_scale
@@ -34,6 +39,7 @@ struct VoteOptions {
   double translation_weight = 8.0;    // w_t (translation in units of the bounding-box diagonal); > 0
   double scale_weight = 2.0;          // w_s (log scale); > 0
   std::uint64_t seed = 1;
+  bool planar = false;  // the z = 0 plane (mode curves; set by the engine, no key): see below
 };
 
 // source and target need normals, curvatures and directions (the features node). `spacing` is the sample spacing

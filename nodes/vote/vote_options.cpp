@@ -11,6 +11,10 @@ OptionTable option_table(VoteOptions& v) {
         range<Index>(&v.target_samples, 1, Index(1) << 40, false, "an integer >= 1")},
        {"matches_per_point", &v.matches_per_point, "source points each voting point pairs with, by signature; [1, 256]",
         range(&v.matches_per_point, 1, 256, false, "an integer in [1, 256]")},
+       {"curve_matches", &v.curve_matches,
+        "mode curves: matches_per_point on curves, whose one-curvature signature is not scale-free (a scaled partner "
+        "lies further off in it); [1, 1024]",
+        range(&v.curve_matches, 1, 1024, false, "an integer in [1, 1024]")},
        {"allow_scale", &v.allow_scale, "similarity transforms (true) or rigid motions (false); also used by support",
         any()},
        {"min_scale", &v.min_scale, "smallest scale voted for; > 0", positive(&v.min_scale)},

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "nodes/curves/sample_curves.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
 #include "nodes/symmetry/symmetry.h"
@@ -137,6 +138,25 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
     faces_reached += n.y() > 0.99 || std::abs(n.x()) > 0.99;
   }
   EXPECT_GE(faces_reached, 3);  // +y, -x and +x: the sides a corner view cannot see
+}
+
+// A square drawn in the z = 0 plane (mode curves): a half turn about x or y maps it onto itself, but as its mirror
+// image, which no motion of the plane does; planar keeps to the z axis.
+TEST(Symmetry, PlanarDrawingsHaveOnlyTheirInPlaneRotations) {
+  Polyline square;
+  square.closed = true;
+  square.points.resize(2, 4);
+  square.points << 0, 1, 1, 0, 0, 0, 1, 1;
+  const CurveSamples s = sample_curves({square}, 0.01, {});
+  SymmetryOptions o;
+  const SymmetryResult spatial = find_symmetries(s.samples, s.spacing, o);
+  EXPECT_EQ(count_order(spatial, Eigen::Vector3d::UnitX(), 2), 1);  // the mirror images, seen in 3D
+  o.planar = true;
+  const SymmetryResult planar = find_symmetries(s.samples, s.spacing, o);
+  ASSERT_EQ(planar.axes.size(), 1u);
+  EXPECT_EQ(count_order(planar, Eigen::Vector3d::UnitZ(), 4), 1);
+  for (const Similarity& r : planar.rotations)
+    EXPECT_TRUE((r.rotation * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ()));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // source sample votes for exactly Q = g^-1 (target -> source), and nothing else concentrates there. Also: the
 // embedding's metric and round trip, the scale range and the rigid rule, the flat-point rule, the voter sample.
 #include "nodes/vote/vote.h"
+#include "nodes/curves/sample_curves.h"
 
 #include <gtest/gtest.h>
 
@@ -306,6 +307,33 @@ TEST(Vote, MissingFeaturesOrEmptyShapesThrow) {
   empty.set_directions(Eigen::Matrix3Xd(3, 0));
   empty.set_curvatures(Eigen::Matrix2Xd(2, 0));
   EXPECT_THROW(vote(S, empty, kSpacing, {}), InputError);
+}
+
+// Curves in the z = 0 plane (mode curves): planar votes are motions of the plane, one per pair; without planar, the
+// second frame of each pair (-d1) turns z over, a mirror image of the drawing.
+TEST(Vote, PlanarVotesKeepToThePlane) {
+  Polyline blob;
+  blob.closed = true;
+  blob.points.resize(2, 360);
+  for (int i = 0; i < 360; ++i) {
+    const double t = 2 * M_PI * i / 360, r = 1 + 0.3 * std::cos(t) + 0.1 * std::sin(2 * t);
+    blob.points.col(i) = r * Eigen::Vector2d(std::cos(t), std::sin(t));
+  }
+  const CurveSamples s = sample_curves({blob}, 0.02, {});
+  VoteOptions o;
+  const auto flipped = [](const VoteResult& v) {
+    Index n = 0;
+    for (Index k = 0; k < v.embedding.cols(); ++k) n += unembed(v.embedding.col(k), v).rotation(2, 2) < 0;  // R z . z
+    return n;
+  };
+  const VoteResult spatial = vote(s.samples, s.samples, s.spacing, o);
+  EXPECT_GT(flipped(spatial), spatial.embedding.cols() / 3);
+  o.planar = true;
+  const VoteResult planar = vote(s.samples, s.samples, s.spacing, o);
+  EXPECT_EQ(flipped(planar), 0);
+  EXPECT_EQ(planar.pairs, planar.embedding.cols());
+  for (Index k = 0; k < planar.embedding.cols(); ++k)
+    EXPECT_NEAR(unembed(planar.embedding.col(k), planar).rotation(2, 2), 1.0, 1e-9);
 }
 
 }  // namespace
