@@ -114,22 +114,11 @@ void write_correspondence(const RunState& state, const Correspondence& c, RunOut
 // output.ply; the report's output, synthesis, correspondence and align.
 void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
   const TransferResult& o = t.output;
-  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end()), rgb[3];
-  const int self_label = t.aligned->synthesized->analogy->labels.self_label;
   Index by_origin[3] = {0, 0, 0};
-  for (size_t i = 0; i < o.origin.size(); ++i) {
-    origin[i] = double(int(o.origin[i]));
-    ++by_origin[int(o.origin[i])];
-    const auto c = output_colour(o.origin[i], o.label[i], self_label, state.config.colour_by_label);
-    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
-  }
+  for (const Origin origin : o.origin) ++by_origin[int(origin)];
   const std::filesystem::path out = state.write_dir / "output.ply";
   write_ply(out, o.points,
-            {{"origin", PlyProperty::Type::kUint8, origin},
-             {"label", PlyProperty::Type::kInt32, label},
-             {"red", PlyProperty::Type::kUint8, rgb[0]},
-             {"green", PlyProperty::Type::kUint8, rgb[1]},
-             {"blue", PlyProperty::Type::kUint8, rgb[2]}});
+            output_properties(o, t.aligned->synthesized->analogy->labels.self_label, state.config.colour_by_label));
   outcome.outputs.push_back(out);
   report["output"] = {{"points", o.points.size()},
                       {"faces", o.points.faces().cols()},
@@ -317,6 +306,20 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
 }
 
 }  // namespace
+
+std::vector<PlyProperty> output_properties(const TransferResult& o, int self_label, bool by_label) {
+  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end()), rgb[3];
+  for (size_t i = 0; i < o.origin.size(); ++i) {
+    origin[i] = double(int(o.origin[i]));
+    const auto c = output_colour(o.origin[i], o.label[i], self_label, by_label);
+    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
+  }
+  return {{"origin", PlyProperty::Type::kUint8, origin},
+          {"label", PlyProperty::Type::kInt32, label},
+          {"red", PlyProperty::Type::kUint8, rgb[0]},
+          {"green", PlyProperty::Type::kUint8, rgb[1]},
+          {"blue", PlyProperty::Type::kUint8, rgb[2]}};
+}
 
 RunOutcome write_outputs(RunState& state, Staging& staging) {
   const RunConfig& config = state.config;

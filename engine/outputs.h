@@ -6,10 +6,15 @@
 
 #include "engine/pipeline.h"
 #include "engine/stages.h"
+#include "nodes/io/write_ply.h"
 
 namespace scanfill {
 
 class Staging;
+
+// output.ply's per-point properties beside positions and normals: origin, label and RGB (by origin, or by label).
+// `scanfill apply` writes its tiles with the same, so that their points are output.ply's own.
+std::vector<PlyProperty> output_properties(const TransferResult& output, int self_label, bool by_label);
 
 // Writes into the staging folder (state.write_dir), then commits it: the files appear in output.dir together.
 RunOutcome write_outputs(RunState& state, Staging& staging);

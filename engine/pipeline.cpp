@@ -109,13 +109,18 @@ flow::sender<LabelledPtr>& add_analogy(Wiring& w, const Branch& source, const Br
   return add_analogy_chain(w, symmetry);
 }
 
-// synthesized -> align -> transfer (-> surface, when output.surface asks for one).
+// synthesized -> align -> plan -> transfer (-> surface, when output.surface asks for one); a plan run stops at the
+// plan.
 void add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize, bool to_scan_frame) {
   auto& align = w.node<SynthesizedPtr, AlignedPtr>([&w](const SynthesizedPtr& in) { return align_stage(w.state, in); });
-  auto& transfer = w.node<AlignedPtr, TransferredPtr>(
-      [&w, to_scan_frame](const AlignedPtr& in) { return transfer_stage(w.state, in, to_scan_frame); });
+  auto& plan = w.node<AlignedPtr, PlannedPtr>(
+      [&w, to_scan_frame](const AlignedPtr& in) { return plan_stage(w.state, in, to_scan_frame); });
   flow::make_edge(synthesize, align);
-  flow::make_edge(align, transfer);
+  flow::make_edge(align, plan);
+  if (w.state.plan_only) return;
+  auto& transfer =
+      w.node<PlannedPtr, TransferredPtr>([&w](const PlannedPtr& in) { return transfer_stage(w.state, in); });
+  flow::make_edge(plan, transfer);
   if (!makes_surface(w.state.config)) return;
   auto& surface =
       w.node<TransferredPtr, SurfacedPtr>([&w](const TransferredPtr& in) { return surface_stage(w.state, in); });
@@ -168,12 +173,8 @@ double peak_rss_mb() {
   return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-RunOutcome run(const RunConfig& config) {
-  // Refused before any work: an output that would overwrite an input, an output folder that cannot be written.
-  check_outputs_spare_inputs(config);
-  Staging staging(config.output_dir);
-  RunState state(config);
-  state.write_dir = staging.folder();
+void run_graph(RunState& state) {
+  const RunConfig& config = state.config;
   flow::graph g;
   Wiring w(g, state);
   switch (config.mode) {
@@ -188,6 +189,15 @@ RunOutcome run(const RunConfig& config) {
       break;
   }
   w.run();
+}
+
+RunOutcome run(const RunConfig& config) {
+  // Refused before any work: an output that would overwrite an input, an output folder that cannot be written.
+  check_outputs_spare_inputs(config);
+  Staging staging(config.output_dir);
+  RunState state(config);
+  state.write_dir = staging.folder();
+  run_graph(state);
   return write_outputs(state, staging);
 }
 
