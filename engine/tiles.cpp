@@ -1,0 +1,137 @@
+#include "engine/tiles.h"
+
+#include <cstdio>
+
+#include "engine/outputs.h"
+#include "engine/stages.h"
+#include "engine/staging.h"
+#include "nodes/core/errors.h"
+#include "nodes/io/plan_file.h"
+#include "nodes/io/read_point_set.h"
+#include "nodes/io/write_ply.h"
+
+namespace scanfill {
+namespace {
+
+// The input the transfer carries: completion's scan, transfer's exemplar.
+const Input& exemplar_input(const RunConfig& config, const std::string& command) {
+  if (config.mode == RunMode::kAnalogy)
+    throw ConfigError(config.config_path.string() + ": mode: analogy has no transfer for scanfill " + command +
+                      " (completion or transfer)");
+  return input_for(config, config.mode == RunMode::kCompletion ? Role::kScan : Role::kExemplar);
+}
+
+void make_parent(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) throw IoError(file.parent_path().string() + ": cannot be made (" + ec.message() + ")");
+}
+
+void require_ply(const std::filesystem::path& path) {
+  if (path.extension() != ".ply") throw ConfigError(path.string() + ": the output must be a .ply file");
+}
+
+// True when a and b name the same existing file.
+bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec);
+}
+
+// The name of a tile_*.ply file in dir, or empty.
+std::string a_tile_in(const std::filesystem::path& dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("tile_") && entry.path().extension() == ".ply") return name;
+  }
+  return "";
+}
+
+}  // namespace
+
+PlanPaths plan_paths(const RunConfig& config, const std::string& plan, const std::string& points) {
+  PlanPaths p;
+  p.plan = plan.empty() ? config.output_dir / "scanfill.plan" : std::filesystem::path(plan);
+  p.points = points.empty() ? p.plan.parent_path() / "plan_points.ply" : std::filesystem::path(points);
+  return p;
+}
+
+PlanOutcome make_plan(const RunConfig& config, const PlanPaths& paths) {
+  exemplar_input(config, "plan");
+  require_ply(paths.points);
+  if (paths.plan == paths.points) throw ConfigError(paths.plan.string() + ": the plan and its points need two files");
+  check_outputs_spare_inputs(config);
+  make_parent(paths.plan);
+  make_parent(paths.points);
+  RunState state(config);
+  state.plan_only = true;
+  run_graph(state);
+  const Planned& planned = *state.plan();
+  const Synthesized& syn = *planned.aligned->synthesized;
+  PlanFile file{planned.plan, syn.analogy->labels.self_label, config.colour_by_label};
+  const PointSet& target = syn.analogy->votes().target()->sampled->loaded->load.points;
+  const TransferResult copies = transfer_planned(file.plan, nullptr, &target);
+  write_ply(paths.points, copies.points, output_properties(copies, file.self_label, file.colour_by_label));
+  write_plan(paths.plan, file);
+  return {Index(file.plan.patches.size()), Index(file.plan.patch.size()), copies.points.size(),
+          std::filesystem::file_size(paths.plan)};
+}
+
+ApplyOutcome apply_tile(const std::filesystem::path& plan, const std::filesystem::path& tile,
+                        const std::filesystem::path& output) {
+  require_ply(output);
+  if (same_file(output, plan) || same_file(output, tile))
+    throw ConfigError(output.string() + ": the output would overwrite an input of scanfill apply");
+  const PlanFile file = read_plan(plan);
+  if (!is_supported_extension(tile))
+    throw IoError(tile.string() + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)");
+  const LoadResult loaded = read_point_set(tile);
+  const PointSet& points = loaded.points;
+  if (const Index i = first_point_outside(file.plan, points); i >= 0) {
+    const Eigen::Vector3d p = points.positions().col(i);
+    char where[96];
+    std::snprintf(where, sizeof(where), "(%.6g, %.6g, %.6g)", p.x(), p.y(), p.z());
+    throw InputError(tile.string() + ": point " + where + " lies outside the bounds of the scan " + plan.string() +
+                     " was made for: a tile of another scan?");
+  }
+  const TransferResult out = apply_plan(file.plan, &points, nullptr);
+  make_parent(output);
+  write_ply(output, out.points, output_properties(out, file.self_label, file.colour_by_label));
+  return {points.size(), out.points.size()};
+}
+
+PointSet exemplar_of(const RunConfig& config) {
+  return load_as_run(config, exemplar_input(config, "split")).points;
+}
+
+std::vector<std::filesystem::path> split_into_tiles(const PointSet& points, Index tiles,
+                                                    const std::filesystem::path& dir) {
+  if (tiles > points.size())
+    throw InputError("split: " + std::to_string(tiles) + " tiles of " + std::to_string(points.size()) +
+                     " points would leave some empty");
+  const auto name = [&](Index t) {
+    char n[32];
+    std::snprintf(n, sizeof(n), "tile_%04lld.ply", static_cast<long long>(t));
+    return dir / n;
+  };
+  if (const std::string old = a_tile_in(dir); !old.empty())
+    throw IoError(dir.string() + ": already holds tiles (" + old + "); remove them or choose another folder");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw IoError(dir.string() + ": cannot be made (" + ec.message() + ")");
+  std::vector<std::filesystem::path> written;
+  try {
+    for (const auto& [begin, end] : tile_ranges(points.size(), tiles)) {
+      std::vector<std::int32_t> idx(size_t(end - begin));
+      for (Index i = begin; i < end; ++i) idx[size_t(i - begin)] = std::int32_t(i);
+      written.push_back(name(Index(written.size())));
+      write_ply(written.back(), subset(points, idx), {}, PlyReal::kFloat64);
+    }
+  } catch (...) {
+    for (const auto& f : written) std::filesystem::remove(f, ec);
+    throw;
+  }
+  return written;
+}
+
+}  // namespace scanfill
