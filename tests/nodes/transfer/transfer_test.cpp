@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 
 #include "nodes/core/errors.h"
 
@@ -186,6 +188,99 @@ TEST(Transfer, AnAlignmentOfAnotherSynthesisIsRefused) {
   AlignResult al = no_alignment(s);
   al.keep.pop_back();
   EXPECT_THROW(transfer({E, samples, samples, samples, Similarity{}, s, al, Similarity{}}), InvariantError);
+}
+
+// A two-patch transfer with thinned samples and offsets, its exemplar a cloud (as tiles are) and a target to copy.
+struct TwoPatches {
+  PointSet E = cloud(grid_mesh(20, 1.0).positions());
+  PointSet samples = cloud(grid_mesh(10, 1.0, Eigen::Vector3d(0.013, 0.007, 0)).positions());
+  PointSet target = cloud(grid_mesh(8, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  PointSet t_samples = cloud(grid_mesh(4, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  Synthesis s = synthesis_of({{2, Origin::kSynthesized, false, kQ},
+                              {-1, Origin::kExemplar, false, Similarity{}},
+                              {5, Origin::kTarget, true, kX}},
+                             {in_working_frame(samples, kX), in_working_frame(samples, kX), t_samples});
+  AlignResult al = thinned(s);
+  TransferInputs inputs() const { return {E, samples, target, t_samples, kX, s, al, kW}; }
+  static AlignResult thinned(const Synthesis& s) {
+    AlignResult a = no_alignment(s);
+    for (size_t j = 0; j < a.keep.size(); j += 4) a.keep[j] = 0;
+    for (size_t j = 0; j < a.offset.size(); ++j) a.offset[j] = 0.01 * double(j % 5);
+    return a;
+  }
+};
+
+// The points of a result as sortable tuples: position, normal, origin, label.
+std::vector<std::array<double, 8>> point_set_of(const TransferResult& r) {
+  std::vector<std::array<double, 8>> out;
+  for (Index i = 0; i < r.points.size(); ++i) {
+    const auto p = r.points.positions().col(i), n = r.points.normals().col(i);
+    out.push_back(
+        {p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), double(int(r.origin[size_t(i)])), double(r.label[size_t(i)])});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
+  const TwoPatches t;
+  const TransferResult whole = transfer(t.inputs());
+  const TransferPlan plan = plan_transfer(t.inputs());
+  EXPECT_TRUE(plan_copies_target(plan));
+  EXPECT_EQ(plan_inconsistency(plan), "");
+  // Three tiles of consecutive points, then the plan-level points (the copies) alone.
+  std::vector<std::array<double, 8>> parts;
+  Index exemplar_points = 0;
+  for (const auto& [begin, end] : tile_ranges(t.E.size(), 3)) {
+    std::vector<std::int32_t> idx;
+    for (Index i = begin; i < end; ++i) idx.push_back(std::int32_t(i));
+    const PointSet part = subset(t.E, idx);
+    const TransferResult tile = apply_plan(plan, &part, nullptr);
+    exemplar_points += tile.points.size();
+    for (const auto& p : point_set_of(tile)) parts.push_back(p);
+  }
+  const TransferResult copies = transfer_planned(plan, nullptr, &t.target);
+  EXPECT_GT(copies.points.size(), 0);  // copies of the kept target samples only
+  EXPECT_LT(copies.points.size(), t.target.size());
+  for (const auto& p : point_set_of(copies)) parts.push_back(p);
+  std::sort(parts.begin(), parts.end());
+  EXPECT_EQ(parts, point_set_of(whole));  // bit for bit, as sets
+  EXPECT_EQ(exemplar_points + copies.points.size(), whole.points.size());
+  // Both exemplar patches emitted points, and the thinned samples removed some.
+  EXPECT_LT(exemplar_points, 2 * t.E.size());
+  EXPECT_GT(exemplar_points, t.E.size());
+}
+
+TEST(ApplyPlan, PointsOutsideThePlansScanAreFound) {
+  const TwoPatches t;
+  const TransferPlan plan = plan_transfer(t.inputs());
+  EXPECT_EQ(first_point_outside(plan, t.E), -1);
+  Eigen::Matrix3Xd p = t.E.positions();
+  p.col(7) += Eigen::Vector3d(0, 0, 0.01);
+  EXPECT_EQ(first_point_outside(plan, PointSet(p)), 7);
+}
+
+TEST(ApplyPlan, InconsistentPlansAreNamed) {
+  const TwoPatches t;
+  TransferPlan plan = plan_transfer(t.inputs());
+  plan.base[3] = std::int32_t(plan.exemplar_samples.cols());
+  EXPECT_NE(plan_inconsistency(plan).find("base out of range"), std::string::npos);
+  plan = plan_transfer(t.inputs());
+  plan.patch[0] = 9;
+  EXPECT_NE(plan_inconsistency(plan).find("patch out of range"), std::string::npos);
+  plan = plan_transfer(t.inputs());
+  plan.shift.pop_back();
+  EXPECT_NE(plan_inconsistency(plan), "");
+}
+
+TEST(TileRanges, ConsecutiveRunsCoverEveryIndexOnce) {
+  const auto r = tile_ranges(10, 4);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_EQ(r[0], std::make_pair(Index(0), Index(3)));
+  EXPECT_EQ(r[1], std::make_pair(Index(3), Index(6)));
+  EXPECT_EQ(r[2], std::make_pair(Index(6), Index(8)));
+  EXPECT_EQ(r[3], std::make_pair(Index(8), Index(10)));
+  EXPECT_THROW(tile_ranges(10, 0), InvariantError);
 }
 
 TEST(CopySurface, ACloudOrADenseEnoughMeshIsTheTargetItself) {
