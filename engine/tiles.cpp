@@ -4,11 +4,11 @@
 
 #include "engine/outputs.h"
 #include "engine/stages.h"
-#include "engine/staging.h"
 #include "nodes/core/errors.h"
 #include "nodes/io/plan_file.h"
 #include "nodes/io/read_point_set.h"
 #include "nodes/io/write_ply.h"
+#include "nodes/transfer/transfer.h"
 
 namespace scanfill {
 namespace {
@@ -37,6 +37,16 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
   return std::filesystem::equivalent(a, b, ec);
 }
 
+// A plan run writes its two files, not output.dir's: neither may be one of the run's inputs.
+void refuse_overwriting_inputs(const RunConfig& config, const std::vector<std::filesystem::path>& written) {
+  for (const auto& input : config.inputs)
+    for (const InputSpec& spec : all_specs(input))
+      for (const auto& out : written)
+        if (!spec.path.empty() && same_file(spec.path, out))
+          throw ConfigError("inputs." + role_name(input.role) + ": " + spec.path.string() +
+                            " would be overwritten by scanfill plan's " + out.string());
+}
+
 // The name of a tile_*.ply file in dir, or empty.
 std::string a_tile_in(const std::filesystem::path& dir) {
   std::error_code ec;
@@ -60,7 +70,7 @@ PlanOutcome make_plan(const RunConfig& config, const PlanPaths& paths) {
   exemplar_input(config, "plan");
   require_ply(paths.points);
   if (paths.plan == paths.points) throw ConfigError(paths.plan.string() + ": the plan and its points need two files");
-  check_outputs_spare_inputs(config);
+  refuse_overwriting_inputs(config, {paths.plan, paths.points});
   make_parent(paths.plan);
   make_parent(paths.points);
   RunState state(config);
@@ -121,11 +131,9 @@ std::vector<std::filesystem::path> split_into_tiles(const PointSet& points, Inde
   if (ec) throw IoError(dir.string() + ": cannot be made (" + ec.message() + ")");
   std::vector<std::filesystem::path> written;
   try {
-    for (const auto& [begin, end] : tile_ranges(points.size(), tiles)) {
-      std::vector<std::int32_t> idx(size_t(end - begin));
-      for (Index i = begin; i < end; ++i) idx[size_t(i - begin)] = std::int32_t(i);
+    for (const auto& range : tile_ranges(points.size(), tiles)) {
       written.push_back(name(Index(written.size())));
-      write_ply(written.back(), subset(points, idx), {}, PlyReal::kFloat64);
+      write_ply(written.back(), tile_points(points, range), {}, PlyReal::kFloat64);
     }
   } catch (...) {
     for (const auto& f : written) std::filesystem::remove(f, ec);

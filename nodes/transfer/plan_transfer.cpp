@@ -72,4 +72,12 @@ std::vector<std::pair<Index, Index>> tile_ranges(Index n, Index tiles) {
   return out;
 }
 
+PointSet tile_points(const PointSet& points, std::pair<Index, Index> range) {
+  if (range.first < 0 || range.second > points.size() || range.first > range.second)
+    throw InvariantError("tile_points: a range outside the points");
+  std::vector<std::int32_t> idx(size_t(range.second - range.first));
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = std::int32_t(range.first + Index(i));
+  return subset(points, idx);
+}
+
 }  // namespace scanfill

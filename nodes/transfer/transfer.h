@@ -97,6 +97,9 @@ std::string plan_inconsistency(const TransferPlan& plan);
 // tile splitter's chunks. Loaded points are Morton-ordered, so consecutive runs are compact in space.
 std::vector<std::pair<Index, Index>> tile_ranges(Index n, Index tiles);
 
+// The points [range.first, range.second) of `points` with their per-point attributes, as a cloud: one tile.
+PointSet tile_points(const PointSet& points, std::pair<Index, Index> range);
+
 // The target's points that copies are made of (DESIGN section 9: a copy is sampled at the output's density, never
 // reduced to a template's own vertices): the target itself when it is a cloud or a mesh with at least as many
 // vertices per sample as the exemplar has points per sample; otherwise that many area-uniform points on its triangles

@@ -231,10 +231,9 @@ TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
   // Three tiles of consecutive points, then the plan-level points (the copies) alone.
   std::vector<std::array<double, 8>> parts;
   Index exemplar_points = 0;
-  for (const auto& [begin, end] : tile_ranges(t.E.size(), 3)) {
-    std::vector<std::int32_t> idx;
-    for (Index i = begin; i < end; ++i) idx.push_back(std::int32_t(i));
-    const PointSet part = subset(t.E, idx);
+  for (const auto& range : tile_ranges(t.E.size(), 3)) {
+    const PointSet part = tile_points(t.E, range);
+    EXPECT_EQ(part.size(), range.second - range.first);
     const TransferResult tile = apply_plan(plan, &part, nullptr);
     exemplar_points += tile.points.size();
     for (const auto& p : point_set_of(tile)) parts.push_back(p);
