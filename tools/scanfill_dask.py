@@ -70,6 +70,9 @@ def write_ply(path, properties, vertices, faces):
     face_records["n"], face_records["v"] = 3, faces
     path = pathlib.Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix="." + path.name)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # as any file the user makes, not mkstemp's 0600
     try:
         with os.fdopen(fd, "wb") as out:
             out.write(("\n".join(lines) + "\n").encode("ascii"))
