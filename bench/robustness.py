@@ -59,13 +59,14 @@ def run(cmd, **kw):
 
 
 def bbox_of(exe, shape, work):
-    """Bounding box of a model: `scanfill info` for files, a sampled copy for procedural shapes."""
+    """Bounding box of a model: `scanfill info --full` (every point read) for files, a sampled copy for procedural
+    shapes."""
     if shape.startswith("procedural:"):
         path = os.path.join(work, shape.split(":", 1)[1] + "_bbox.ply")
         if not os.path.exists(path):
             run([exe, "sample", "--input", shape, "--output", path, "--count", "2000"])
         shape = path
-    return json.loads(run([exe, "info", "--json", shape]))["bbox"]
+    return json.loads(run([exe, "info", "--full", "--json", shape]))["bbox"]
 
 
 def eye_for(bbox, view):

@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "engine/config.h"
@@ -59,13 +61,47 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(n));
 }
 
-int run_info(const std::string& file, bool json) {
+std::string join_list(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
+// `info` from the header alone (PLY, PCD): the counts and properties it declares, no bounding box.
+int print_header_info(const std::string& file, const FileHeader& h, bool json) {
+  const auto file_bytes = Index(std::filesystem::file_size(file));
+  if (json) {
+    nlohmann::json j = {{"read", "header"},           {"format", h.format},
+                        {"encoding", h.encoding},     {"points", h.points},
+                        {"faces", h.faces},           {"elements", h.elements},
+                        {"properties", h.properties}, {"header_bytes", h.header_bytes},
+                        {"file_bytes", file_bytes}};
+    if (h.viewpoint) j["viewpoint"] = {h.viewpoint->x(), h.viewpoint->y(), h.viewpoint->z()};
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  std::cout << file << "\n"
+            << "  read        header only (" << h.header_bytes << " of " << file_bytes
+            << " bytes; --full reads the points for the bounding box)\n"
+            << "  format      " << h.format << " (" << h.encoding << ")\n"
+            << "  points      " << h.points << " declared\n"
+            << "  faces       " << h.faces << (h.format == "ply" ? " face records" : "") << "\n"
+            << "  " << (h.format == "ply" ? "elements    " : "size        ") << join_list(h.elements) << "\n"
+            << "  properties  " << join_list(h.properties) << std::endl;
+  return 0;
+}
+
+// `info`: the header alone for PLY and PCD unless `full`; every point read otherwise (and for formats without one).
+int run_info(const std::string& file, bool json, bool full) {
+  if (!full)
+    if (const std::optional<FileHeader> header = read_header(file)) return print_header_info(file, *header, json);
   const LoadResult r = read_point_set(file, LoadOptions{.morton_sort = false});
   const PointSet& p = r.points;
   const BoundingBox box = bounding_box(p.positions());
   std::vector<std::string> attributes = p.attribute_names();
   if (json) {
-    nlohmann::json j = {{"format", r.format},
+    nlohmann::json j = {{"read", "full"},
+                        {"format", r.format},
                         {"encoding", r.encoding},
                         {"points", p.size()},
                         {"faces", p.faces().cols()},
@@ -79,6 +115,7 @@ int run_info(const std::string& file, bool json) {
   }
   for (const auto& w : r.warnings) spdlog::warn("{}", w);
   std::cout << file << "\n"
+            << "  read        all points" << (full ? "" : " (the format has no header)") << "\n"
             << "  format      " << r.format << " (" << r.encoding << ")\n"
             << "  points      " << p.size();
   if (r.dropped_nonfinite)
@@ -87,9 +124,7 @@ int run_info(const std::string& file, bool json) {
             << "  bbox min    " << box.min.transpose() << "\n"
             << "  bbox max    " << box.max.transpose() << "\n"
             << "  diagonal    " << box.diagonal() << "\n"
-            << "  attributes  ";
-  for (size_t i = 0; i < attributes.size(); ++i) std::cout << (i ? ", " : "") << attributes[i];
-  std::cout << std::endl;
+            << "  attributes  " << join_list(attributes) << std::endl;
   return 0;
 }
 
@@ -221,12 +256,17 @@ void add_common_flags(CLI::App* cmd, CommonFlags& c) {
 struct InfoArgs {
   std::string file;
   bool json = false;
+  bool full = false;
 };
 
 CLI::App* add_info_command(CLI::App& app, InfoArgs& a, CommonFlags& common) {
-  CLI::App* cmd = app.add_subcommand("info", "print format, counts, bounding box and attributes of a file");
+  CLI::App* cmd = app.add_subcommand(
+      "info",
+      "print format, counts and properties of a file from its header (PLY, PCD); with --full, or for formats "
+      "without a header, read every point for the bounding box and attributes");
   cmd->add_option("file", a.file, "point cloud or mesh (.ply .pcd .obj .off .stl .xyz)")->required();
-  cmd->add_flag("--json", a.json, "print JSON");
+  cmd->add_flag("--json", a.json, "print JSON ('read': 'header' or 'full')");
+  cmd->add_flag("--full", a.full, "read every point: bounding box, attributes, non-finite points dropped");
   add_common_flags(cmd, common);
   return cmd;
 }
@@ -454,7 +494,8 @@ int main(int argc, char** argv) {
       std::cout << default_config_yaml();
       return 0;
     }
-    if (info_cmd->parsed()) return with_threads(common.threads, [&] { return run_info(info.file, info.json); });
+    if (info_cmd->parsed())
+      return with_threads(common.threads, [&] { return run_info(info.file, info.json, info.full); });
     if (scan_cmd->parsed())
       return with_threads(common.threads, [&] {
         return run_scan(sc.input, sc.output, sc.eye, sc.target, sc.resolution, sc.fov, sc.noise, sc.seed);

@@ -9,7 +9,10 @@
 #                                                  nodes/io/*.h, nodes/eval/evaluate.h, nodes/procedural/shapes.h
 #   lib/cmake/scanfill/scanfill-{config,config-version,targets*}.cmake    find_package(scanfill) -> scanfill::scanfill
 #   lib/pkgconfig/scanfill.pc                      pkg-config scanfill (relocatable: paths from the .pc's own folder)
-#   share/doc/scanfill/{LICENSE,README.md}
+#   share/doc/scanfill/{LICENSE,README.md}         scanfill's licence and manual
+#   share/doc/scanfill/third_party_notices.txt     the licences of the code compiled or linked statically into the
+#                                                  binaries (Ceres, nanoflann, FLANN, Eigen, LEMON, nlohmann/json,
+#                                                  CLI11, PCL's templates): cmake/third_party_notices.txt
 # lib is GNUInstallDirs' CMAKE_INSTALL_LIBDIR (lib, or lib/<multiarch> when configured with the prefix /usr).
 include(CMakePackageConfigHelpers)
 
@@ -36,7 +39,8 @@ string(REGEX REPLACE "/$" "" SCANFILL_PC_TO_PREFIX "${SCANFILL_PC_TO_PREFIX}")
 configure_file(${CMAKE_CURRENT_LIST_DIR}/scanfill.pc.in ${PROJECT_BINARY_DIR}/scanfill.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/scanfill.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
-install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md ${CMAKE_CURRENT_LIST_DIR}/third_party_notices.txt
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 # ---------------------------------------------------------------------------------------------------------------------
 # cpack -G DEB (in the build folder): one package, scanfill_VERSION_ARCH.deb, with the program, the library, the
@@ -52,7 +56,16 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Completes partial 3D scans and transfers 
 set(CPACK_PACKAGE_DESCRIPTION
     "scanfill completes partial 3D scans from a structural template, and transfers geometric style between 3D shapes, by shape analogies (Ma et al., Analogy-Driven 3D Style Transfer, Eurographics 2014). The package holds the scanfill command, the libscanfill library, its headers and its CMake and pkg-config files.")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_CONTACT "scanfill maintainers <maintainers@users.noreply.h-seed-3de0c76f.example>")
+# The Debian Maintainer field: whoever builds and distributes the package (Debian policy 5.6.2: a name and an email
+# address). The default is the copyright holder of LICENSE with the one address the project has on record (its
+# commits'); a distributor puts their own with -DSCANFILL_MAINTAINER="Name <address>" (checked for that form).
+set(SCANFILL_MAINTAINER "The scanfill authors <maintainers@users.noreply.h-seed-3de0c76f.example>"
+    CACHE STRING "the .deb's Maintainer field: Name <email>")
+if(NOT SCANFILL_MAINTAINER MATCHES "^[^<>]+ <[^<>@ ]+@[^<>@ ]+>$")
+  message(FATAL_ERROR "SCANFILL_MAINTAINER: expected 'Name <email>', got '${SCANFILL_MAINTAINER}'")
+endif()
+set(CPACK_PACKAGE_CONTACT "${SCANFILL_MAINTAINER}")
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${SCANFILL_MAINTAINER}")
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

@@ -259,6 +259,14 @@ const std::vector<std::pair<std::string, SurfaceChoice>>& surface_choice_names()
   return names;
 }
 
+const std::vector<std::pair<std::string, ColourChoice>>& colour_choice_names() {
+  static const std::vector<std::pair<std::string, ColourChoice>> names{{"auto", ColourChoice::kAuto},
+                                                                       {"origin", ColourChoice::kOrigin},
+                                                                       {"label", ColourChoice::kLabel},
+                                                                       {"scan", ColourChoice::kScan}};
+  return names;
+}
+
 bool makes_surface(const RunConfig& config) {
   if (config.mode == RunMode::kAnalogy) return false;
   if (config.output_surface == SurfaceChoice::kAuto) return config.mode == RunMode::kCompletion;
@@ -333,20 +341,23 @@ bool read_mode(const YAML::Node& root, RunConfig& config, Problems& problems) {
 }
 
 // output.surface: auto | none | poisson.
-void read_surface_choice(const YAML::Node& output, RunConfig& config, Problems& problems) {
-  const YAML::Node n = output["surface"];
+// output.KEY, one of `choices` by name.
+template <class Choice>
+void read_choice(const YAML::Node& output, const std::string& key,
+                 const std::vector<std::pair<std::string, Choice>>& choices, Choice& out, Problems& problems) {
+  const YAML::Node n = output[key];
   if (!n) return;
-  problems.remember("output.surface", n.Mark());
+  problems.remember("output." + key, n.Mark());
   std::string name;
   std::vector<std::string> names;
-  for (const auto& [choice_name, choice] : surface_choice_names()) {
+  for (const auto& [choice_name, choice] : choices) {
     names.push_back(choice_name);
     if (scalar_as(n, name) && name == choice_name) {
-      config.output_surface = choice;
+      out = choice;
       return;
     }
   }
-  problems.add(n.Mark(), "output.surface", "expected one of " + join(names) + ", got " + describe(n));
+  problems.add(n.Mark(), "output." + key, "expected one of " + join(names) + ", got " + describe(n));
 }
 
 void read_threads_and_output(const YAML::Node& root, RunConfig& config, Problems& problems) {
@@ -356,15 +367,8 @@ void read_threads_and_output(const YAML::Node& root, RunConfig& config, Problems
       problems.add(n.Mark(), "threads", "expected an integer >= 0, got " + describe(n));
   }
   if (const YAML::Node n = root["output"]; n && check_map(n, "output", {"dir", "colour", "surface"}, problems)) {
-    read_surface_choice(n, config, problems);
-    if (const YAML::Node c = n["colour"]) {
-      std::string colour;
-      problems.remember("output.colour", c.Mark());
-      if (scalar_as(c, colour) && (colour == "origin" || colour == "label"))
-        config.colour_by_label = colour == "label";
-      else
-        problems.add(c.Mark(), "output.colour", "expected origin or label, got " + describe(c));
-    }
+    read_choice(n, "surface", surface_choice_names(), config.output_surface, problems);
+    read_choice(n, "colour", colour_choice_names(), config.output_colour, problems);
     if (const YAML::Node d = n["dir"]) {
       std::string dir;
       problems.remember("output.dir", d.Mark());
@@ -559,8 +563,10 @@ std::string default_config_yaml() {
     << "  template: procedural:vase_template\n"
     << "output:\n"
     << "  dir: out                  # created if missing; relative to the working directory\n"
-    << "  colour: origin            # output.ply's RGB: origin (scan grey, synthesised orange, copied blue)\n"
-    << "                            # or label (one colour per transform, as analogy.ply)\n"
+    << "  colour: auto              # output.ply's RGB: origin (scan grey, synthesised orange, copied blue),\n"
+    << "                            # label (one colour per transform, as analogy.ply), scan (the scan's or\n"
+    << "                            # exemplar's own colours, copied points grey; the scan must have them)\n"
+    << "                            # or auto (scan when the scan has colours, else origin)\n"
     << "  surface: auto             # output_mesh.ply, a surface through output.ply's points: poisson | none |\n"
     << "                            # auto (poisson in completion, none otherwise); its options: surface below\n"
     << "threads: 0                  # worker threads; 0 = all cores (the --threads option overrides it)\n";

@@ -54,13 +54,19 @@ std::vector<InputSpec> all_specs(const Input& input);
 enum class SurfaceChoice { kAuto, kNone, kPoisson };
 const std::vector<std::pair<std::string, SurfaceChoice>>& surface_choice_names();
 
+// output.colour: output.ply's RGB. origin: scan (or exemplar) grey, synthesised orange, copied blue; label: one colour
+// per transform, as analogy.ply; scan: the scan's (or exemplar's) own colours, carried with its points through the
+// transfer (copied points mid grey); auto: scan when the scan has colours, origin otherwise.
+enum class ColourChoice { kAuto, kOrigin, kLabel, kScan };
+const std::vector<std::pair<std::string, ColourChoice>>& colour_choice_names();
+
 struct RunConfig {
   RunMode mode = RunMode::kCompletion;
-  std::vector<Input> inputs;                 // in the mode's role order
-  std::filesystem::path output_dir = "out";  // created if missing; relative to the working directory
-  bool colour_by_label = false;              // output.ply's RGB: by origin (false) or by transform label (true)
-  int threads = 0;                           // 0 = all cores
-  std::string preset = "scanfill";           // the parameter set the sections start from: scanfill | paper
+  std::vector<Input> inputs;                         // in the mode's role order
+  std::filesystem::path output_dir = "out";          // created if missing; relative to the working directory
+  ColourChoice output_colour = ColourChoice::kAuto;  // output.colour: output.ply's RGB (see ColourChoice)
+  int threads = 0;                                   // 0 = all cores
+  std::string preset = "scanfill";                   // the parameter set the sections start from: scanfill | paper
   // output.surface: output_mesh.ply or not; the mesh's options are the section `surface` (below)
   SurfaceChoice output_surface = SurfaceChoice::kAuto;
   LoadOptions load;

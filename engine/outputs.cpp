@@ -60,6 +60,11 @@ std::array<double, 3> label_colour(int label, int self_label) {
   return rgb;
 }
 
+// output.colour as it applies to this output (see resolved_colour).
+ColourChoice colour_choice(const RunConfig& config, const TransferResult& o) {
+  return resolved_colour(config.output_colour, o.points.has_colours());
+}
+
 // output.ply's colour of a point: by origin (scan or exemplar grey, synthesised orange, copied blue), or by label
 // (as analogy.ply; the scan's own points grey).
 std::array<double, 3> output_colour(Origin origin, int label, int self_label, bool by_label) {
@@ -67,6 +72,32 @@ std::array<double, 3> output_colour(Origin origin, int label, int self_label, bo
   if (by_label) return label_colour(label, self_label);
   if (origin == Origin::kSynthesized) return {235, 130, 35};
   return {60, 120, 225};
+}
+
+// output.ply's points with their RGB as `choice` (resolved) says: the scan's own colours (already on the points), or
+// by origin or label.
+PointSet coloured_output(const TransferResult& o, ColourChoice choice, int self_label) {
+  if (choice == ColourChoice::kScan) return o.points;  // a scan without colours was refused at load
+  Matrix3Xu8 rgb(3, o.points.size());
+  for (size_t i = 0; i < o.origin.size(); ++i) {
+    const auto c = output_colour(o.origin[i], o.label[i], self_label, choice == ColourChoice::kLabel);
+    for (int k = 0; k < 3; ++k) rgb(k, Index(i)) = std::uint8_t(c[size_t(k)]);
+  }
+  PointSet points = o.points;
+  points.set_colours(std::move(rgb));
+  return points;
+}
+
+// What the summary says output.ply's RGB is.
+std::string colour_words(ColourChoice choice, bool completion) {
+  switch (choice) {
+    case ColourChoice::kLabel:
+      return "label";
+    case ColourChoice::kScan:
+      return std::string("the ") + (completion ? "scan" : "exemplar") + "'s own colours (copied points grey)";
+    default:
+      return "origin (" + std::string(completion ? "scan" : "exemplar") + " grey, synthesised orange, copied blue)";
+  }
 }
 
 // samples_ROLE.ply per input; the report's inputs.
@@ -117,14 +148,18 @@ void write_output(const RunState& state, const Transferred& t, nlohmann::json& r
   Index by_origin[3] = {0, 0, 0};
   for (const Origin origin : o.origin) ++by_origin[int(origin)];
   const std::filesystem::path out = state.write_dir / "output.ply";
-  write_ply(out, o.points,
-            output_properties(o, t.aligned->synthesized->analogy->labels.self_label, state.config.colour_by_label));
+  const ColourChoice colour = colour_choice(state.config, o);
+  write_output_ply(out, o, colour, t.aligned->synthesized->analogy->labels.self_label);
   outcome.outputs.push_back(out);
   report["output"] = {{"points", o.points.size()},
                       {"faces", o.points.faces().cols()},
                       {"exemplar_points", by_origin[0]},
                       {"synthesized_points", by_origin[1]},
-                      {"copied_points", by_origin[2]}};
+                      {"copied_points", by_origin[2]},
+                      {"colour", colour == ColourChoice::kScan    ? "scan"
+                                 : colour == ColourChoice::kLabel ? "label"
+                                                                  : "origin"},
+                      {"intensity", o.points.has_intensity()}};
   const Synthesized& s = *t.aligned->synthesized;
   const Synthesis& syn = s.synthesis;
   const AlignResult& al = t.aligned->alignment;
@@ -160,6 +195,7 @@ void write_surface(const RunState& state, const Surfaced& s, nlohmann::json& rep
                        {"faces", s.surface.mesh.faces().cols()},
                        {"trimmed", s.surface.trimmed_faces},
                        {"poisson_faces", s.surface.poisson_faces},
+                       {"poisson_diagnostics", s.surface.diagnostics},
                        {"points_meshed", s.surface.points_meshed},
                        {"spacing", s.surface.spacing},
                        {"depth", o.depth},
@@ -180,17 +216,15 @@ nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcom
   list.push_back(
       transform_json(L.self_label, "self", Similarity{}, count[size_t(L.self_label)], count[size_t(L.self_label)]));
   std::vector<double> label(L.labels.begin(), L.labels.end());
-  std::vector<double> rgb[3];
-  for (int l : L.labels) {
-    const auto c = label_colour(l, L.self_label);
-    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
+  PointSet points = a.votes().target()->features.points;  // the target's own colours, if any, give way to labels'
+  Matrix3Xu8 rgb(3, points.size());
+  for (size_t i = 0; i < L.labels.size(); ++i) {
+    const auto c = label_colour(L.labels[i], L.self_label);
+    for (int k = 0; k < 3; ++k) rgb(k, Index(i)) = std::uint8_t(c[size_t(k)]);
   }
+  points.set_colours(std::move(rgb));
   const std::filesystem::path out = state.write_dir / "analogy.ply";
-  write_ply(out, a.votes().target()->features.points,
-            {{"label", PlyProperty::Type::kInt32, label},
-             {"red", PlyProperty::Type::kUint8, rgb[0]},
-             {"green", PlyProperty::Type::kUint8, rgb[1]},
-             {"blue", PlyProperty::Type::kUint8, rgb[2]}});
+  write_ply(out, points, {{"label", PlyProperty::Type::kInt32, label}});
   outcome.outputs.push_back(out);
   return list;
 }
@@ -210,7 +244,15 @@ std::vector<PreviewPanel> input_panels(const RunState& state) {
   for (size_t slot = 0; slot < config.inputs.size(); ++slot)
     if (config.inputs[slot].role == first) {
       const Featured& f = *state.inputs()[slot];
-      panels.push_back({&f.features.points, {Rgb{190, 190, 190}}, f.sampled->sample.spacing});
+      PreviewPanel panel{&f.features.points, {Rgb{190, 190, 190}}, f.sampled->sample.spacing};
+      // The scan in its own colours when output.ply shows them.
+      const TransferredPtr& t = state.output();
+      if (t && colour_choice(config, t->output) == ColourChoice::kScan && f.features.points.has_colours()) {
+        const Matrix3Xu8& c = f.features.points.colours();
+        panel.colours.clear();
+        for (Index i = 0; i < c.cols(); ++i) panel.colours.push_back({c(0, i), c(1, i), c(2, i)});
+      }
+      panels.push_back(std::move(panel));
     }
   if (const LabelledPtr& a = state.analogy()) {
     const Featured& target = *a->votes().target();
@@ -229,13 +271,14 @@ void write_preview(const RunState& state, RunOutcome& outcome) {
   if (panels.empty()) return;
   if (const TransferredPtr& t = state.output()) {
     const TransferResult& o = t->output;
-    const int self_label = t->aligned->synthesized->analogy->labels.self_label;
     // The output's spacing from the samples': as many points on the same surface.
     const double spacing = panels.back().spacing * std::sqrt(double(panels.back().points->size()) /
                                                              double(std::max<Index>(o.points.size(), 1)));
     PreviewPanel out{&o.points, {}, spacing};
-    for (size_t i = 0; i < o.origin.size(); ++i)
-      out.colours.push_back(rgb_of(output_colour(o.origin[i], o.label[i], self_label, config.colour_by_label)));
+    const PointSet coloured =  // as output.ply
+        coloured_output(o, colour_choice(config, o), t->aligned->synthesized->analogy->labels.self_label);
+    const Matrix3Xu8& c = coloured.colours();
+    for (Index i = 0; i < c.cols(); ++i) out.colours.push_back({c(0, i), c(1, i), c(2, i)});
     panels.push_back(std::move(out));
   }
   std::optional<Eigen::Vector3d> eye = config.virtual_scan.eye;
@@ -287,8 +330,13 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
       << o["synthesized_points"].get<Index>() << " synthesised by " << used << " transforms, "
       << o["copied_points"].get<Index>() << " copied from the " << (completion ? "template" : "target") << ")\n"
       << "  output.ply: vertex 'origin' 0 = " << (completion ? "scan" : "exemplar")
-      << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json); RGB by "
-      << (config.colour_by_label ? "label" : "origin (scan grey, synthesised orange, copied blue)") << "\n"
+      << ", 1 = synthesised, 2 = copied; 'label' = the transform (see report.json); RGB: "
+      << (o["colour"] == "scan"    ? colour_words(ColourChoice::kScan, completion)
+          : o["colour"] == "label" ? colour_words(ColourChoice::kLabel, completion)
+                                   : colour_words(ColourChoice::kOrigin, completion))
+      << (o["intensity"].get<bool>() ? "; 'intensity' carried from the " + std::string(completion ? "scan" : "exemplar")
+                                     : std::string())
+      << "\n"
       << surface_line(report) << "  analogy.ply: the " << (completion ? "template" : "target")
       << " samples coloured by transform (grey = self-reference)\n"
       << "  preview.png: the inputs, the analogy and the output, from the scan's side (top) and the other (bottom)\n"
@@ -307,18 +355,16 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
 
 }  // namespace
 
-std::vector<PlyProperty> output_properties(const TransferResult& o, int self_label, bool by_label) {
-  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end()), rgb[3];
-  for (size_t i = 0; i < o.origin.size(); ++i) {
-    origin[i] = double(int(o.origin[i]));
-    const auto c = output_colour(o.origin[i], o.label[i], self_label, by_label);
-    for (int k = 0; k < 3; ++k) rgb[k].push_back(c[size_t(k)]);
-  }
-  return {{"origin", PlyProperty::Type::kUint8, origin},
-          {"label", PlyProperty::Type::kInt32, label},
-          {"red", PlyProperty::Type::kUint8, rgb[0]},
-          {"green", PlyProperty::Type::kUint8, rgb[1]},
-          {"blue", PlyProperty::Type::kUint8, rgb[2]}};
+ColourChoice resolved_colour(ColourChoice configured, bool carried_colours) {
+  if (configured != ColourChoice::kAuto) return configured;
+  return carried_colours ? ColourChoice::kScan : ColourChoice::kOrigin;
+}
+
+void write_output_ply(const std::filesystem::path& path, const TransferResult& o, ColourChoice colour, int self_label) {
+  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
+  for (size_t i = 0; i < o.origin.size(); ++i) origin[i] = double(int(o.origin[i]));
+  write_ply(path, coloured_output(o, colour, self_label),
+            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
 }
 
 RunOutcome write_outputs(RunState& state, Staging& staging) {

@@ -86,6 +86,11 @@ LoadedPtr load_stage(RunState& state, const Input& input) {
   const std::string subject = input_subject(input);
   return run_node(state, name, subject, [&](const ProgressFn&) {
     LoadResult load = load_as_run(state.config, input);
+    // output.colour: scan asks for colours the output's points can only take from this input.
+    if (state.config.output_colour == ColourChoice::kScan &&
+        (input.role == Role::kScan || input.role == Role::kExemplar) && !load.points.has_colours())
+      throw InputError("output.colour is 'scan' but the " + role +
+                       " has no colours (PLY red green blue, PCD rgb or rgba, XYZ or OBJ r g b): use auto or origin");
     const BoundingBox box = input_bounds(load);
     auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box});
     for (const auto& w : loaded->load.warnings) state.warn(name, w);
@@ -345,6 +350,7 @@ SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
     auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->output.points, state.config.surface)});
     const SurfaceResult& s = out->surface;
+    for (const auto& w : s.warnings) state.warn("surface", w);
     node_logger("surface")->info(
         "Poisson surface: {} vertices, {} triangles from {} points (spacing {:.4g}); {} of {} triangles trimmed as "
         "farther than {} spacings from the points",

@@ -57,6 +57,18 @@ std::string a_tile_in(const std::filesystem::path& dir) {
   return "";
 }
 
+// output.colour in the plan file and back (resolved: never auto).
+PlanColour plan_colour(ColourChoice c) {
+  return c == ColourChoice::kScan    ? PlanColour::kScan
+         : c == ColourChoice::kLabel ? PlanColour::kLabel
+                                     : PlanColour::kOrigin;
+}
+ColourChoice choice_of(PlanColour c) {
+  return c == PlanColour::kScan    ? ColourChoice::kScan
+         : c == PlanColour::kLabel ? ColourChoice::kLabel
+                                   : ColourChoice::kOrigin;
+}
+
 }  // namespace
 
 PlanPaths plan_paths(const RunConfig& config, const std::string& plan, const std::string& points) {
@@ -78,10 +90,11 @@ PlanOutcome make_plan(const RunConfig& config, const PlanPaths& paths) {
   run_graph(state);
   const Planned& planned = *state.plan();
   const Synthesized& syn = *planned.aligned->synthesized;
-  PlanFile file{planned.plan, syn.analogy->labels.self_label, config.colour_by_label};
+  PlanFile file{planned.plan, syn.analogy->labels.self_label,
+                plan_colour(resolved_colour(config.output_colour, planned.plan.colours))};
   const PointSet& target = syn.analogy->votes().target()->sampled->loaded->load.points;
   const TransferResult copies = transfer_planned(file.plan, nullptr, &target);
-  write_ply(paths.points, copies.points, output_properties(copies, file.self_label, file.colour_by_label));
+  write_output_ply(paths.points, copies, choice_of(file.colour), file.self_label);
   write_plan(paths.plan, file);
   return {Index(file.plan.patches.size()), Index(file.plan.patch.size()), copies.points.size(),
           std::filesystem::file_size(paths.plan)};
@@ -104,9 +117,13 @@ ApplyOutcome apply_tile(const std::filesystem::path& plan, const std::filesystem
     throw InputError(tile.string() + ": point " + where + " lies outside the bounds of the scan " + plan.string() +
                      " was made for: a tile of another scan?");
   }
+  if ((file.plan.colours && !points.has_colours()) || (file.plan.intensity && !points.has_intensity()))
+    throw InputError(tile.string() + ": has no " +
+                     (file.plan.colours && !points.has_colours() ? "colours" : "intensity") + " but the scan " +
+                     plan.string() + " was made for has: split it with scanfill split");
   const TransferResult out = apply_plan(file.plan, &points, nullptr);
   make_parent(output);
-  write_ply(output, out.points, output_properties(out, file.self_label, file.colour_by_label));
+  write_output_ply(output, out, choice_of(file.colour), file.self_label);
   return {points.size(), out.points.size()};
 }
 

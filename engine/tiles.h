@@ -3,7 +3,8 @@
 //
 //   scanfill plan   the run up to the plan node; writes the plan file (nodes/io/plan_file.h) and the plan-level
 //                   points: the target's copies carried (empty when nothing is copied). Neither depends on a tile.
-//   scanfill apply  one tile of the exemplar carried through a plan, written with output.ply's properties.
+//   scanfill apply  one tile of the exemplar carried through a plan, written with output.ply's properties (RGB as
+//                   output.colour resolved when planning; the scan's colours and intensity ride along as in the run).
 //   scanfill split  the exemplar, as the run loads it, in tiles of consecutive (Morton-ordered) points, written
 //   exactly.
 // The union of every tile's output and the plan-level points is output.ply's points, each once: a point's output
@@ -50,9 +51,9 @@ ApplyOutcome apply_tile(const std::filesystem::path& plan, const std::filesystem
 // configured). Throws ConfigError for a mode without an exemplar (analogy).
 PointSet exemplar_of(const RunConfig& config);
 
-// Writes `points` as `tiles` files <dir>/tile_NNNN.ply (consecutive runs, x y z and normals in double precision, no
-// triangles) and returns their paths. Refuses a folder that already holds tiles, and more tiles than points; a failed
-// split leaves no tile behind.
+// Writes `points` as `tiles` files <dir>/tile_NNNN.ply (consecutive runs, x y z and normals in double precision, the
+// scan's colours and intensity as loaded, no triangles) and returns their paths. Refuses a folder that already holds
+// tiles, and more tiles than points; a failed split leaves no tile behind.
 std::vector<std::filesystem::path> split_into_tiles(const PointSet& points, Index tiles,
                                                     const std::filesystem::path& dir);
 

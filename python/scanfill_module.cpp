@@ -432,6 +432,16 @@ py::dict read_shape(py::handle path) {
   };
   out["points"] = rows(p.positions());
   if (p.has_normals()) out["normals"] = rows(p.normals());
+  if (p.has_colours()) {
+    py::array_t<std::uint8_t> c({py::ssize_t(p.size()), py::ssize_t(3)});
+    std::memcpy(c.mutable_data(), p.colours().data(), size_t(p.colours().size()));
+    out["colors"] = c;
+  }
+  if (p.has_intensity()) {
+    py::array_t<float> v(py::ssize_t(p.size()));
+    std::memcpy(v.mutable_data(), p.intensity().data(), sizeof(float) * size_t(p.size()));
+    out["intensity"] = v;
+  }
   if (p.has_faces()) {
     py::array_t<std::int32_t> f({py::ssize_t(p.faces().cols()), py::ssize_t(3)});
     std::memcpy(f.mutable_data(), p.faces().data(), sizeof(std::int32_t) * size_t(p.faces().size()));
@@ -462,7 +472,8 @@ PYBIND11_MODULE(scanfill, m) {
   m.def("read", &read_shape, py::arg("path"),
         "read(path) -> dict\n\n"
         "Reads a point cloud or mesh (.ply .pcd .obj .off .stl .xyz, procedural:NAME, revolution:...) in file order:\n"
-        "{'points': N x 3 float64, 'normals': N x 3 (when the file has them), 'faces': F x 3 int32 (meshes)}.");
+        "{'points': N x 3 float64, 'normals': N x 3 (when the file has them), 'colors': N x 3 uint8 and\n"
+        "'intensity': N float32 (when the file has them), 'faces': F x 3 int32 (meshes)}.");
   m.def(
       "complete",
       [](py::handle scan, py::handle template_shape, const py::kwargs& options) {
@@ -472,7 +483,8 @@ PYBIND11_MODULE(scanfill, m) {
       "complete(scan, template, **options) -> dict\n\n"
       "Completes a partial scan with the structure of a template (mode: completion). Returns output.ply's arrays:\n"
       "'points', 'normals', 'origin' (0 scan, 1 synthesised, 2 copied), 'label' (the transform), 'colors' (N x 3\n"
-      "uint8), 'faces' when meshed; 'analogy' (analogy.ply's arrays) and 'report' (report.json as a dict).\n"
+      "uint8, as output.colour says), 'intensity' (when the scan has it), 'faces' when meshed; 'analogy' "
+      "(analogy.ply's arrays) and 'report' (report.json as a dict).\n"
       "output={'dir': PATH} keeps the files; otherwise they are written to a temporary folder and removed.");
   m.def(
       "transfer",

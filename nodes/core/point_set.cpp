@@ -34,6 +34,13 @@ void PointSet::set_source_index(VectorXi64 index) {
   source_index_ = std::make_shared<const VectorXi64>(std::move(index));
 }
 
+void PointSet::set_colours(Matrix3Xu8 m) {
+  colours_ = std::make_shared<const Matrix3Xu8>(std::move(m));
+}
+void PointSet::set_intensity(Eigen::VectorXf v) {
+  intensity_ = std::make_shared<const Eigen::VectorXf>(std::move(v));
+}
+
 std::vector<std::string> PointSet::attribute_names() const {
   std::vector<std::string> names{"positions"};
   if (has_normals()) names.push_back("normals");
@@ -42,6 +49,8 @@ std::vector<std::string> PointSet::attribute_names() const {
   if (has_faces()) names.push_back("faces");
   if (has_face_provenance()) names.push_back("face_provenance");
   if (has_source_index()) names.push_back("source_index");
+  if (has_colours()) names.push_back("colours");
+  if (has_intensity()) names.push_back("intensity");
   if (viewpoint_) names.push_back("viewpoint");
   return names;
 }
@@ -59,6 +68,8 @@ void PointSet::check() const {
   expect("source_face", source_face().size());
   expect("barycentrics", barycentrics().cols());
   expect("source_index", source_index().size());
+  expect("colours", colours().cols());
+  expect("intensity", intensity().size());
   if (source_face().size() != barycentrics().cols())
     throw InvariantError("point set face provenance: source_face and barycentrics differ in size");
   if (has_faces() && (faces().minCoeff() < 0 || faces().maxCoeff() >= n))
@@ -88,6 +99,8 @@ PointSet subset(const PointSet& points, const std::vector<std::int32_t>& indices
   if (points.has_face_provenance())
     out.set_face_provenance(take_entries(points.source_face(), indices), take_columns(points.barycentrics(), indices));
   if (points.has_source_index()) out.set_source_index(take_entries(points.source_index(), indices));
+  if (points.has_colours()) out.set_colours(take_columns(points.colours(), indices));
+  if (points.has_intensity()) out.set_intensity(take_entries(points.intensity(), indices));
   return out;
 }
 

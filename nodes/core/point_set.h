@@ -18,6 +18,7 @@ using Index = std::int64_t;
 using Matrix3Xi = Eigen::Matrix<std::int32_t, 3, Eigen::Dynamic>;
 using VectorXi64 = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>;
 using VectorXi32 = Eigen::Matrix<std::int32_t, Eigen::Dynamic, 1>;
+using Matrix3Xu8 = Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic>;
 
 class PointSet {
  public:
@@ -43,6 +44,11 @@ class PointSet {
   const Eigen::Matrix3Xd& barycentrics() const { return get(barycentrics_); }
   // source_index  N: the index of the original input point a sample (or a reordered point) came from, or empty
   const VectorXi64& source_index() const { return get(source_index_); }
+  // colours  3 by N red, green, blue in [0, 255] as the input file gave them (scaled from [0, 1] where it used floats),
+  // or 3 by 0
+  const Matrix3Xu8& colours() const { return get(colours_); }
+  // intensity  N: a scanner's return strength as the input file gave it (no unit, no fixed range), or empty
+  const Eigen::VectorXf& intensity() const { return get(intensity_); }
 
   bool has_normals() const { return normals().cols() > 0; }
   bool has_curvatures() const { return curvatures().cols() > 0; }
@@ -50,6 +56,8 @@ class PointSet {
   bool has_faces() const { return faces().cols() > 0; }
   bool has_face_provenance() const { return source_face().size() > 0; }
   bool has_source_index() const { return source_index().size() > 0; }
+  bool has_colours() const { return colours().cols() > 0; }
+  bool has_intensity() const { return intensity().size() > 0; }
 
   // The sensor position of a single-view scan, when the file says (PCD VIEWPOINT) or the user does.
   const std::optional<Eigen::Vector3d>& viewpoint() const { return viewpoint_; }
@@ -61,6 +69,8 @@ class PointSet {
   void set_faces(Matrix3Xi m);
   void set_face_provenance(VectorXi32 face, Eigen::Matrix3Xd barycentrics);
   void set_source_index(VectorXi64 index);
+  void set_colours(Matrix3Xu8 m);
+  void set_intensity(Eigen::VectorXf v);
   void set_viewpoint(std::optional<Eigen::Vector3d> v) { viewpoint_ = v; }
 
   // Names of the attributes present, in a fixed order (for `info` and reports).
@@ -84,6 +94,8 @@ class PointSet {
   std::shared_ptr<const VectorXi32> source_face_;
   std::shared_ptr<const Eigen::Matrix3Xd> barycentrics_;
   std::shared_ptr<const VectorXi64> source_index_;
+  std::shared_ptr<const Matrix3Xu8> colours_;
+  std::shared_ptr<const Eigen::VectorXf> intensity_;
   std::optional<Eigen::Vector3d> viewpoint_;
 };
 

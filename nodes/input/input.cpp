@@ -80,20 +80,26 @@ namespace {
 // The fragments' points, one after the other; normals and faces only when every fragment has them.
 PointSet join_points(const std::vector<LoadResult>& parts, std::vector<std::string>& warnings) {
   Index points = 0, faces = 0;
-  bool normals = true, meshes = true;
+  bool normals = true, meshes = true, colours = true, intensity = true;
   for (const LoadResult& part : parts) {
     points += part.points.size();
     faces += part.points.faces().cols();
     normals = normals && part.points.has_normals();
     meshes = meshes && part.points.has_faces();
+    colours = colours && part.points.has_colours();
+    intensity = intensity && part.points.has_intensity();
   }
   Eigen::Matrix3Xd p(3, points), n(3, normals ? points : 0);
+  Matrix3Xu8 c(3, colours ? points : 0);
+  Eigen::VectorXf v(intensity ? points : 0);
   Matrix3Xi f(3, meshes ? faces : 0);
   Index at = 0, face_at = 0;
   for (const LoadResult& part : parts) {
     const Index m = part.points.size();
     p.middleCols(at, m) = part.points.positions();
     if (normals) n.middleCols(at, m) = part.points.normals();
+    if (colours) c.middleCols(at, m) = part.points.colours();
+    if (intensity) v.segment(at, m) = part.points.intensity();
     if (meshes) {
       const Index k = part.points.faces().cols();
       f.middleCols(face_at, k) = (part.points.faces().array() + std::int32_t(at)).matrix();
@@ -102,8 +108,22 @@ PointSet join_points(const std::vector<LoadResult>& parts, std::vector<std::stri
     at += m;
   }
   if (faces > 0 && !meshes) warnings.push_back("some fragments are point clouds: the fragments' faces are not used");
+  for (const LoadResult& part : parts) {
+    if (!colours && part.points.has_colours()) {
+      warnings.push_back("some fragments have no colours: the fragments' colours are not used");
+      break;
+    }
+  }
+  for (const LoadResult& part : parts) {
+    if (!intensity && part.points.has_intensity()) {
+      warnings.push_back("some fragments have no intensity: the fragments' intensity is not used");
+      break;
+    }
+  }
   PointSet joined(std::move(p));
   if (normals) joined.set_normals(std::move(n));
+  if (colours) joined.set_colours(std::move(c));
+  if (intensity) joined.set_intensity(std::move(v));
   if (meshes) joined.set_faces(std::move(f));
   // One scanner position for all, or none (normals are then oriented without one).
   const auto& viewpoint = parts[0].points.viewpoint();

@@ -40,7 +40,8 @@ BoundingBox input_bounds(const LoadResult& load);
 LoadResult load_input(const InputSpec& spec, const LoadOptions& options = {});
 
 // Loads the fragments of one scan (given in one frame, as a hand-held scanner's software exports them) and joins them
-// into one point set, in order: positions; normals when every fragment has them; faces when every fragment is a mesh.
+// into one point set, in order: positions; normals, colours and intensity each when every fragment has them; faces
+// when every fragment is a mesh.
 // Each warning names its fragment. The registration to the template then moves them together.
 LoadResult load_fragments(const std::vector<InputSpec>& specs, const LoadOptions& options = {});
 

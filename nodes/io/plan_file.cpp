@@ -106,8 +106,10 @@ std::string payload_of(const PlanFile& f) {
   const TransferPlan& p = f.plan;
   Writer w;
   w.put(std::int32_t(f.self_label));
-  w.put(std::uint8_t(f.colour_by_label));
+  w.put(std::uint8_t(f.colour));
   w.put(std::uint8_t(p.mesh_output));
+  w.put(std::uint8_t(p.colours));
+  w.put(std::uint8_t(p.intensity));
   w.put(std::int64_t(p.exemplar_points));
   for (int i = 0; i < 3; ++i) w.put(p.exemplar_bounds.min[i]);
   for (int i = 0; i < 3; ++i) w.put(p.exemplar_bounds.max[i]);
@@ -131,8 +133,13 @@ PlanFile plan_of(Reader& r) {
   PlanFile f;
   TransferPlan& p = f.plan;
   f.self_label = r.get<std::int32_t>();
-  f.colour_by_label = r.get<std::uint8_t>() != 0;
+  const auto colour = r.get<std::uint8_t>();
+  if (colour > std::uint8_t(PlanColour::kScan)) r.corrupt("an unknown output colour");
+  f.colour = PlanColour(colour);
   p.mesh_output = r.get<std::uint8_t>() != 0;
+  p.colours = r.get<std::uint8_t>() != 0;
+  p.intensity = r.get<std::uint8_t>() != 0;
+  if (f.colour == PlanColour::kScan && !p.colours) r.corrupt("the scan's own colours asked for, but it has none");
   p.exemplar_points = r.get<std::int64_t>();
   for (int i = 0; i < 3; ++i) p.exemplar_bounds.min[i] = r.get<double>();
   for (int i = 0; i < 3; ++i) p.exemplar_bounds.max[i] = r.get<double>();

@@ -15,12 +15,17 @@
 namespace scanfill {
 
 // Bumped whenever the payload's layout or meaning changes: plans of other versions are refused, never guessed at.
-inline constexpr std::uint32_t kPlanFormatVersion = 1;
+// 2: the exemplar's colours and intensity, and output.ply's RGB as one of three.
+inline constexpr std::uint32_t kPlanFormatVersion = 2;
+
+// output.ply's RGB as the planning run resolved output.colour: by origin, by transform label, or the scan's (or
+// exemplar's) own colours carried with its points (the plan then has colours).
+enum class PlanColour : std::uint8_t { kOrigin, kLabel, kScan };
 
 struct PlanFile {
   TransferPlan plan;
-  int self_label = 0;            // the analogy's self-reference label (output.ply colours it grey)
-  bool colour_by_label = false;  // output.ply's RGB by transform label (true) or by origin
+  int self_label = 0;                       // the analogy's self-reference label (output.ply colours it grey)
+  PlanColour colour = PlanColour::kOrigin;  // output.ply's RGB
 };
 
 // Writes atomically (temp file + rename). Throws IoError naming the file.

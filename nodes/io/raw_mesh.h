@@ -7,16 +7,20 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "nodes/core/errors.h"
+#include "nodes/io/read_point_set.h"
 
 namespace scanfill::io {
 
 struct RawMesh {
-  std::vector<double> xyz;          // 3 per vertex
-  std::vector<double> normals;      // 3 per vertex, or empty
-  std::vector<std::int64_t> faces;  // 3 per triangle, as written in the file (checked later)
+  std::vector<double> xyz;            // 3 per vertex
+  std::vector<double> normals;        // 3 per vertex, or empty
+  std::vector<std::uint8_t> colours;  // 3 per vertex (red, green, blue in [0, 255]), or empty
+  std::vector<float> intensity;       // 1 per vertex, or empty
+  std::vector<std::int64_t> faces;    // 3 per triangle, as written in the file (checked later)
   std::optional<Eigen::Vector3d> viewpoint;
   std::string encoding;
   std::vector<std::string> warnings;
@@ -28,6 +32,8 @@ RawMesh read_obj(const std::filesystem::path& path);
 RawMesh read_off(const std::filesystem::path& path);
 RawMesh read_stl(const std::filesystem::path& path);
 RawMesh read_xyz(const std::filesystem::path& path);
+FileHeader read_ply_header(const std::filesystem::path& path);
+FileHeader read_pcd_header(const std::filesystem::path& path);
 
 // "<path>: <what>" as an IoError.
 [[noreturn]] inline void fail(const std::filesystem::path& path, const std::string& what) {
@@ -36,6 +42,10 @@ RawMesh read_xyz(const std::filesystem::path& path);
 
 // The whole file in memory; IoError if it cannot be opened or is empty.
 std::string read_file(const std::filesystem::path& path);
+
+// The file's first bytes, read in blocks until `complete(bytes)` or the end of the file, and the file's size; the same
+// IoErrors as read_file.
+std::string read_head(const std::filesystem::path& path, bool (*complete)(std::string_view), std::uint64_t& file_size);
 
 // Appends a polygon as a triangle fan; returns false (and appends nothing) for fewer than 3 corners.
 inline bool add_polygon(std::vector<std::int64_t>& faces, const std::int64_t* corners, size_t n) {

@@ -1,6 +1,10 @@
 // Wavefront OBJ reader: v, vn and f (any of v, v/vt, v//vn, v/vt/vn; negative indices count back from the end).
 // Other statements (vt, g, o, s, usemtl, mtllib, l, p...) are read past. A vertex gets the normal of the first face
-// corner that names one; normals are kept only when every vertex gets one.
+// corner that names one; normals are kept only when every vertex gets one. Vertex colours "v x y z r g b" (the
+// extension MeshLab and CloudCompare write, [0, 1] floats) are kept when every vertex has them.
+#include <algorithm>
+#include <cmath>
+
 #include "nodes/io/raw_mesh.h"
 
 namespace scanfill::io {
@@ -12,7 +16,7 @@ RawMesh read_obj(const std::filesystem::path& path) {
   std::vector<double> vn;
   std::vector<std::int64_t> vertex_normal;  // per vertex: index into vn, or -1
   std::vector<std::int64_t> corners, corner_normals;
-  std::int64_t skipped_faces = 0;
+  std::int64_t skipped_faces = 0, coloured = 0;
   size_t pos = 0;
   int line_no = 0;
   while (pos < data.size()) {
@@ -34,7 +38,20 @@ RawMesh read_obj(const std::filesystem::path& path) {
       }
       auto& dst = key == "v" ? mesh.xyz : vn;
       dst.insert(dst.end(), c, c + 3);
-      if (key == "v") vertex_normal.push_back(-1);
+      if (key == "v") {
+        vertex_normal.push_back(-1);
+        // Three more numbers are a colour; one more (a homogeneous w) or none is not.
+        double rgb[3];
+        int n = 0;
+        for (std::string_view t = tok.next(); !t.empty() && n < 4; t = tok.next())
+          n += n < 3 && parse_double(t, rgb[n]) ? 1 : 4;
+        const bool colour = n == 3;
+        if (colour && coloured == std::int64_t(mesh.xyz.size() / 3) - 1) {
+          for (const double c : rgb)
+            mesh.colours.push_back(std::isfinite(c) ? std::uint8_t(std::clamp(std::round(255 * c), 0.0, 255.0)) : 0);
+          ++coloured;
+        }
+      }
     } else if (key == "f") {
       corners.clear();
       corner_normals.clear();
@@ -70,6 +87,7 @@ RawMesh read_obj(const std::filesystem::path& path) {
     for (const auto i : vertex_normal)
       mesh.normals.insert(mesh.normals.end(), &vn[size_t(3 * i)], &vn[size_t(3 * i + 3)]);
   }
+  if (coloured != std::int64_t(mesh.xyz.size() / 3)) mesh.colours.clear();
   if (skipped_faces > 0)
     mesh.warnings.push_back(std::to_string(skipped_faces) + " faces with fewer than 3 vertices were skipped");
   return mesh;

@@ -2,9 +2,12 @@
 // dereferences, reads after free, out-of-bounds reads in readBodyBinary: issue 11), so the whole header is parsed and
 // checked here first (fields, SIZE against TYPE, COUNT, WIDTH x HEIGHT against POINTS, the DATA kind, the body size
 // the header implies against the bytes in the file) and the body is decoded with bounds checks on every read.
-// Fields x y z (any numeric type, 64-bit integers included) and, when present, normal_x normal_y normal_z. The
+// Fields x y z (any numeric type, 64-bit integers included) and, when present, normal_x normal_y normal_z, the
+// packed colour rgb or rgba (4 bytes, 0x00RRGGBB or 0xAARRGGBB, F or U; in ascii files the integer PCL writes, or a
+// float whose bits are the packed value) and intensity (any numeric type). The
 // VIEWPOINT origin becomes the point set's viewpoint (the sensor position of a single-view scan); (0, 0, 0) without it.
 // Values are converted exactly as PCL did: a 4-byte float field is rounded to float in ascii files too.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -25,6 +28,17 @@ struct PcdField {
 };
 
 enum class PcdData { kAscii, kBinary, kCompressed };
+
+struct PcdHeader {
+  std::vector<PcdField> fields;
+  std::uint64_t width = 0, height = 1, points = 0;
+  double viewpoint[7] = {0, 0, 0, 1, 0, 0, 0};
+  PcdData kind = PcdData::kAscii;
+  std::string kind_name;
+  size_t body = 0;  // offset of the data after the DATA line
+  int lines = 0;    // header lines
+  std::uint64_t point_step = 0, values_per_point = 0;
+};
 
 // Decodes one value of a field from little-endian bytes.
 double binary_value(const unsigned char* p, const PcdField& f) {
@@ -105,10 +119,10 @@ bool parse_count(std::string_view t, std::uint64_t& out) {
 
 }  // namespace
 
-RawMesh read_pcd(const std::filesystem::path& path) {
-  const std::string data = read_file(path);  // the same "no such file" / "file is empty" messages as the other formats
-  const size_t file_size = data.size();
-
+// The header of a PCD file in `data` (which holds at least the header), checked: keywords, fields (SIZE against TYPE,
+// x y z present), WIDTH x HEIGHT against POINTS, and the body it implies against the `file_size` - body offset bytes
+// after it (a binary_compressed block's own sizes are checked by read_pcd, which has its bytes).
+PcdHeader parse_pcd_header(const std::filesystem::path& path, std::string_view data, std::uint64_t file_size) {
   // ---- header: one keyword per line up to and including DATA
   std::vector<PcdField> fields;
   bool have_fields = false, have_size = false, have_type = false, have_count = false, have_version = false;
@@ -120,9 +134,9 @@ RawMesh read_pcd(const std::filesystem::path& path) {
   bool have_data = false;
   size_t pos = 0;
   int line_no = 0;
-  while (pos < file_size && !have_data) {
+  while (pos < data.size() && !have_data) {
     size_t eol = data.find('\n', pos);
-    if (eol == std::string::npos) eol = file_size;
+    if (eol == std::string::npos) eol = data.size();
     Tokenizer tok(data.data() + pos, data.data() + eol);
     pos = eol + 1;
     ++line_no;
@@ -222,17 +236,13 @@ RawMesh read_pcd(const std::filesystem::path& path) {
     point_step += f.size * f.count;  // at most 2^20 fields of 8 x 2^20 bytes: no overflow
     values_per_point += f.count;
   }
-  auto field = [&](const char* name) -> const PcdField* {
-    for (const PcdField& f : fields)
-      if (f.name == name) return &f;
-    return nullptr;
+  auto has_field = [&](const char* name) {
+    return std::any_of(fields.begin(), fields.end(), [&](const PcdField& f) { return f.name == name; });
   };
-  const PcdField* fx = field("x");
-  const PcdField* fy = field("y");
-  const PcdField* fz = field("z");
-  if (!fx || !fy || !fz) fail(path, "PCD has no x, y, z fields");
-  const PcdField* fn[3] = {field("normal_x"), field("normal_y"), field("normal_z")};
-  const bool normals = fn[0] && fn[1] && fn[2];
+  if (!has_field("x") || !has_field("y") || !has_field("z")) fail(path, "PCD has no x, y, z fields");
+  for (const PcdField& f : fields)
+    if ((f.name == "rgb" || f.name == "rgba") && f.size != 4)
+      fail(path, "field '" + f.name + "' has SIZE " + std::to_string(f.size) + " (a packed colour has 4 bytes)");
 
   // ---- counts: WIDTH x HEIGHT against POINTS (files before v0.7 may give only one of them)
   if (!have_width && !have_points) fail(path, "PCD header has neither WIDTH nor POINTS");
@@ -245,11 +255,8 @@ RawMesh read_pcd(const std::filesystem::path& path) {
                    std::to_string(points) + ")");
 
   // ---- the body the header implies, against the bytes the file holds (before anything is allocated)
-  const size_t body = std::min(pos, file_size);
-  const std::uint64_t remaining = file_size - body;
+  const std::uint64_t remaining = file_size - std::min<std::uint64_t>(pos, file_size);
   const auto point_bytes = [&](std::uint64_t n) { return n > 0 && point_step > remaining / n; };
-  std::string decompressed;
-  const unsigned char* records = reinterpret_cast<const unsigned char*>(data.data()) + body;
   if (kind == PcdData::kAscii) {
     // Each value takes at least one character and one separator.
     if (points > 0 && values_per_point > remaining / points / 2 + 1)
@@ -259,7 +266,73 @@ RawMesh read_pcd(const std::filesystem::path& path) {
     if (point_bytes(points))
       fail(path, "truncated: " + std::to_string(points) + " points of " + std::to_string(point_step) +
                      " bytes declared, the binary data has " + std::to_string(remaining) + " bytes");
-  } else {
+  } else if (remaining < 8) {
+    fail(path, "truncated: binary_compressed data without its size header");
+  }
+  PcdHeader h;
+  h.fields = std::move(fields);
+  h.width = width;
+  h.height = height;
+  h.points = points;
+  std::copy(viewpoint, viewpoint + 7, h.viewpoint);
+  h.kind = kind;
+  h.kind_name = kind_name;
+  h.body = std::min<std::uint64_t>(pos, file_size);
+  h.lines = line_no;
+  h.point_step = point_step;
+  h.values_per_point = values_per_point;
+  return h;
+}
+
+FileHeader read_pcd_header(const std::filesystem::path& path) {
+  std::uint64_t file_size = 0;
+  // Complete once a line starting with DATA has ended.
+  const auto complete = [](std::string_view d) {
+    for (size_t at = d.find("DATA"); at != std::string_view::npos; at = d.find("DATA", at + 1))
+      if ((at == 0 || d[at - 1] == '\n') && d.find('\n', at) != std::string_view::npos) return true;
+    return false;
+  };
+  const std::string head = read_head(path, complete, file_size);
+  const PcdHeader h = parse_pcd_header(path, head, file_size);
+  FileHeader out;
+  out.format = "pcd";
+  out.encoding = h.kind_name;
+  out.header_bytes = Index(h.body);
+  out.points = Index(h.points);
+  out.elements.push_back(std::to_string(h.width) + " x " + std::to_string(h.height));
+  for (const PcdField& f : h.fields)
+    out.properties.push_back(f.name + " " + std::string(1, f.type) + std::to_string(f.size) +
+                             (f.count > 1 ? " x " + std::to_string(f.count) : ""));
+  out.viewpoint = Eigen::Vector3d(float(h.viewpoint[0]), float(h.viewpoint[1]), float(h.viewpoint[2]));
+  return out;
+}
+
+RawMesh read_pcd(const std::filesystem::path& path) {
+  const std::string data = read_file(path);  // the same "no such file" / "file is empty" messages as the other formats
+  const PcdHeader h = parse_pcd_header(path, data, data.size());
+  const std::vector<PcdField>& fields = h.fields;
+  const std::uint64_t points = h.points, point_step = h.point_step, values_per_point = h.values_per_point;
+  const PcdData kind = h.kind;
+  const size_t body = h.body, file_size = data.size();
+  const std::uint64_t remaining = file_size - body;
+  const int line_no = h.lines;
+  const double* viewpoint = h.viewpoint;
+  auto field = [&](const char* name) -> const PcdField* {
+    for (const PcdField& f : fields)
+      if (f.name == name) return &f;
+    return nullptr;
+  };
+  const PcdField* fx = field("x");
+  const PcdField* fy = field("y");
+  const PcdField* fz = field("z");
+  const PcdField* fn[3] = {field("normal_x"), field("normal_y"), field("normal_z")};
+  const bool normals = fn[0] && fn[1] && fn[2];
+  const PcdField* frgb = field("rgb") ? field("rgb") : field("rgba");
+  const PcdField* fintensity = field("intensity");
+
+  std::string decompressed;
+  const unsigned char* records = reinterpret_cast<const unsigned char*>(data.data()) + body;
+  if (kind == PcdData::kCompressed) {
     if (remaining < 8) fail(path, "truncated: binary_compressed data without its size header");
     std::uint32_t sizes[2];
     std::memcpy(sizes, records, 8);
@@ -280,7 +353,7 @@ RawMesh read_pcd(const std::filesystem::path& path) {
   }
 
   RawMesh mesh;
-  mesh.encoding = kind_name;
+  mesh.encoding = h.kind_name;
   mesh.xyz.resize(3 * points);
   if (normals) mesh.normals.resize(3 * points);
   const PcdField* wanted[6] = {fx, fy, fz, fn[0], fn[1], fn[2]};
@@ -291,19 +364,34 @@ RawMesh read_pcd(const std::filesystem::path& path) {
     else
       mesh.normals[3 * i + k - 3] = v;
   };
+  if (frgb) mesh.colours.resize(3 * points);
+  if (fintensity) mesh.intensity.resize(points);
+  auto store_rgb = [&](std::uint64_t i, std::uint32_t packed) {
+    for (int k = 0; k < 3; ++k) mesh.colours[3 * i + k] = std::uint8_t(packed >> (16 - 8 * k));
+  };
+  // The packed colour's 4 bytes as they are: a float's bits may be a NaN pattern, which a conversion would change.
+  auto packed_bits = [](const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+  };
 
   if (kind == PcdData::kBinary) {
-    for (std::uint64_t i = 0; i < points; ++i)
-      for (int k = 0; k < n_wanted; ++k)
-        store(i, k, binary_value(records + i * point_step + wanted[k]->offset, *wanted[k]));
+    for (std::uint64_t i = 0; i < points; ++i) {
+      const unsigned char* record = records + i * point_step;
+      for (int k = 0; k < n_wanted; ++k) store(i, k, binary_value(record + wanted[k]->offset, *wanted[k]));
+      if (frgb) store_rgb(i, packed_bits(record + frgb->offset));
+      if (fintensity) mesh.intensity[i] = float(binary_value(record + fintensity->offset, *fintensity));
+    }
   } else if (kind == PcdData::kCompressed) {
     // Field by field: all points' values of the first field, then of the second...
     const auto* soa = reinterpret_cast<const unsigned char*>(decompressed.data());
-    for (int k = 0; k < n_wanted; ++k) {
-      const PcdField& f = *wanted[k];
-      const unsigned char* column = soa + points * f.offset;
-      for (std::uint64_t i = 0; i < points; ++i) store(i, k, binary_value(column + i * f.size * f.count, f));
-    }
+    const auto column = [&](const PcdField& f, std::uint64_t i) {
+      return soa + points * f.offset + i * f.size * f.count;
+    };
+    for (int k = 0; k < n_wanted; ++k)
+      for (std::uint64_t i = 0; i < points; ++i) store(i, k, binary_value(column(*wanted[k], i), *wanted[k]));
+    for (std::uint64_t i = 0; frgb && i < points; ++i) store_rgb(i, packed_bits(column(*frgb, i)));
+    for (std::uint64_t i = 0; fintensity && i < points; ++i)
+      mesh.intensity[i] = float(binary_value(column(*fintensity, i), *fintensity));
   } else {
     const char* p = data.data() + body;
     const char* const end = data.data() + file_size;
@@ -342,6 +430,30 @@ RawMesh read_pcd(const std::filesystem::path& path) {
           v = double(iv);
         }
         store(i, k, v);
+      }
+      if (frgb) {
+        // As PCL reads it: an integer (TYPE U or I, as PCL writes it), or a float whose bits are the packed value.
+        const std::string_view t = tokens[frgb->first_value];
+        std::int64_t iv = 0;
+        double fv = 0;
+        if (frgb->type != 'F' ? !(parse_int(t, iv) && iv >= 0 && iv <= 0xffffffffLL) : !parse_float(t, fv))
+          fail(path, "line " + std::to_string(line) + ": '" + std::string(t) + "' is not a packed colour (field '" +
+                         frgb->name + "', TYPE " + std::string(1, frgb->type) + ")");
+        std::uint32_t bits = std::uint32_t(iv);
+        if (frgb->type == 'F') {
+          const float f = float(fv);
+          std::memcpy(&bits, &f, 4);
+        }
+        store_rgb(i, bits);
+      }
+      if (fintensity) {
+        const std::string_view t = tokens[fintensity->first_value];
+        double v;
+        const bool is_float = fintensity->type == 'F';
+        if (!(is_float && fintensity->size == 4 ? parse_float(t, v) : parse_double(t, v)))
+          fail(path, "line " + std::to_string(line) + ": '" + std::string(t) + "' is not a number (field '" +
+                         fintensity->name + "')");
+        mesh.intensity[i] = float(v);
       }
       ++i;
     }

@@ -1,6 +1,9 @@
 // PLY reader (Turk's format): ASCII, binary_little_endian and binary_big_endian; CRLF line endings; any elements.
-// Only vertex (x y z [nx ny nz | normal_x ...]) and face (vertex_indices | vertex_index) are kept; other elements
-// such as range_grid or camera are read past.
+// Only vertex (x y z [nx ny nz | normal_x ...] [red green blue | diffuse_red ... | r g b] [intensity |
+// scalar_intensity]) and face (vertex_indices | vertex_index) are kept; other elements such as range_grid or camera
+// are read past. Colours of 8-bit types are kept as they are, 16-bit ones scaled by 1/257, other integers clamped to
+// [0, 255]; float colours are read as [0, 1] (scaled by 255) unless one exceeds 1, when the file is taken to hold
+// [0, 255] floats (with a warning).
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -62,6 +65,22 @@ struct Element {
 
 enum class Encoding { kAscii, kLittle, kBig };
 
+const char* encoding_name(Encoding e) {
+  return e == Encoding::kAscii ? "ascii" : e == Encoding::kLittle ? "binary_little_endian" : "binary_big_endian";
+}
+
+struct PlyHeader {
+  Encoding encoding = Encoding::kAscii;
+  std::vector<Element> elements;
+  size_t body = 0;  // offset of the first byte after end_header
+  int lines = 0;    // header lines
+};
+
+const char* type_name(Type t) {
+  static const char* kNames[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+  return kNames[int(t)];
+}
+
 // Reads one binary scalar at p (bounds checked by the caller) as double.
 double read_binary(const char* p, Type t, bool swap) {
   char b[8];
@@ -113,22 +132,45 @@ double read_binary(const char* p, Type t, bool swap) {
   return 0;
 }
 
-// Where a vertex/face property goes: a slot of xyz (0-2), normals (3-5), the face list (6), or nowhere (-1).
+// Where a vertex/face property goes: a slot of xyz (0-2), normals (3-5), the face list (6), colour (7-9), intensity
+// (10), or nowhere (-1).
+constexpr int kFaceSlot = 6, kColourSlot = 7, kIntensitySlot = 10, kValueSlots = 11;
 int slot_of(const std::string& element, const Property& p) {
   if (element == "vertex" && !p.is_list) {
-    static const char* kNames[][2] = {{"x", nullptr},     {"y", nullptr},     {"z", nullptr},
-                                      {"nx", "normal_x"}, {"ny", "normal_y"}, {"nz", "normal_z"}};
-    for (int s = 0; s < 6; ++s)
-      if (p.name == kNames[s][0] || (kNames[s][1] && p.name == kNames[s][1])) return s;
+    static const char* kNames[][4] = {{"x"},
+                                      {"y"},
+                                      {"z"},
+                                      {"nx", "normal_x"},
+                                      {"ny", "normal_y"},
+                                      {"nz", "normal_z"},
+                                      {},
+                                      {"red", "diffuse_red", "r"},
+                                      {"green", "diffuse_green", "g"},
+                                      {"blue", "diffuse_blue", "b"},
+                                      {"intensity", "scalar_intensity", "scalar_Intensity", "Intensity"}};
+    for (int s = 0; s < kValueSlots; ++s)
+      for (const char* name : kNames[s])
+        if (name && p.name == name) return s;
   }
-  if (element == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) return 6;
+  if (element == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) return kFaceSlot;
   return -1;
+}
+
+bool is_float(Type t) {
+  return t == Type::kFloat32 || t == Type::kFloat64;
+}
+
+// An integer colour value in [0, 255]: 8-bit as it is, 16-bit scaled by 1/257, wider types clamped.
+std::uint8_t integer_colour(double v, Type t) {
+  if (t == Type::kUint16 || t == Type::kInt16) v = std::round(v / 257.0);
+  return std::isfinite(v) ? std::uint8_t(std::clamp(v, 0.0, 255.0)) : 0;  // an ascii file may say "nan"
 }
 
 }  // namespace
 
-RawMesh read_ply(const std::filesystem::path& path) {
-  const std::string data = read_file(path);
+// The header of a PLY file in `data` (which holds at least the header), checked: the format, elements and properties,
+// a vertex element with x, y and z, and the counts against the `file_size` - body offset bytes after the header.
+PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view data, std::uint64_t file_size) {
   // Header: lines up to and including "end_header", each ended by LF or CRLF.
   size_t pos = 0;
   int line_no = 0;
@@ -198,25 +240,13 @@ RawMesh read_ply(const std::filesystem::path& path) {
   if (!have_end) fail(path, "PLY header has no end_header (truncated?)");
   if (!have_format) fail(path, "PLY header has no format line");
 
-  RawMesh mesh;
-  mesh.encoding = encoding == Encoding::kAscii    ? "ascii"
-                  : encoding == Encoding::kLittle ? "binary_little_endian"
-                                                  : "binary_big_endian";
   const Element* vertex = nullptr;
   for (const Element& e : elements)
     if (e.name == "vertex") vertex = &e;
   if (!vertex) fail(path, "PLY has no vertex element");
-  bool has[7] = {};
-  for (const Property& p : vertex->properties) {
-    const int s = slot_of("vertex", p);
-    if (s >= 0) has[s] = true;
-  }
-  if (!has[0] || !has[1] || !has[2]) fail(path, "PLY vertex element lacks x, y or z");
-  const bool want_normals = has[3] && has[4] && has[5];
-
   // The counts against the bytes after the header, before anything is allocated: a binary record takes at least its
   // scalars and list counts, an ascii value at least one character and a separator (the last may lack it).
-  const std::uint64_t body = data.size() - std::min(pos, data.size());
+  const std::uint64_t body = file_size - std::min<std::uint64_t>(pos, file_size);
   std::uint64_t need = 0;  // bytes (binary) or values (ascii) the header implies, at the least
   for (const Element& e : elements) {
     std::uint64_t record = 0;
@@ -231,8 +261,68 @@ RawMesh read_ply(const std::filesystem::path& path) {
                                   : ", more than the " + std::to_string(body) + " bytes after the header can hold"));
     need += std::uint64_t(e.count) * record;
   }
+  return {encoding, std::move(elements), pos, line_no};
+}
+
+FileHeader read_ply_header(const std::filesystem::path& path) {
+  std::uint64_t file_size = 0;
+  // Complete once a line "end_header" has ended (a comment may mention end_header).
+  const auto complete = [](std::string_view d) {
+    for (size_t at = d.find("\nend_header"); at != std::string_view::npos; at = d.find("\nend_header", at + 1)) {
+      const size_t after = at + std::strlen("\nend_header");
+      if (d.substr(after).starts_with("\n") || d.substr(after).starts_with("\r\n")) return true;
+    }
+    return false;
+  };
+  const std::string head = read_head(path, complete, file_size);
+  const PlyHeader h = parse_ply_header(path, head, file_size);
+  FileHeader out;
+  out.format = "ply";
+  out.encoding = encoding_name(h.encoding);
+  out.header_bytes = Index(h.body);
+  for (const Element& e : h.elements) {
+    if (e.name == "vertex") out.points = e.count;
+    if (e.name == "face") out.faces = e.count;
+    out.elements.push_back(e.name + " " + std::to_string(e.count));
+    for (const Property& p : e.properties)
+      out.properties.push_back(e.name + "." + p.name + " " +
+                               (p.is_list ? std::string("list ") + type_name(p.count_type) + " " : std::string()) +
+                               type_name(p.type));
+  }
+  return out;
+}
+
+RawMesh read_ply(const std::filesystem::path& path) {
+  const std::string data = read_file(path);
+  const PlyHeader header = parse_ply_header(path, data, data.size());
+  const Encoding encoding = header.encoding;
+  const std::vector<Element>& elements = header.elements;
+  const size_t pos = header.body;
+  const int line_no = header.lines;
+  RawMesh mesh;
+  mesh.encoding = encoding_name(encoding);
+  const Element* vertex = nullptr;
+  for (const Element& e : elements)
+    if (e.name == "vertex") vertex = &e;
+  bool has[kValueSlots] = {};
+  Type colour_type[3] = {};
+  for (const Property& p : vertex->properties) {
+    const int s = slot_of("vertex", p);
+    if (s >= 0) has[s] = true;
+    if (s >= kColourSlot && s < kColourSlot + 3) colour_type[s - kColourSlot] = p.type;
+  }
+  if (!has[0] || !has[1] || !has[2]) fail(path, "PLY vertex element lacks x, y or z");
+  const bool want_normals = has[3] && has[4] && has[5];
+  const bool want_colours = has[kColourSlot] && has[kColourSlot + 1] && has[kColourSlot + 2];
+  const bool want_intensity = has[kIntensitySlot];
+  // Float colours: their range is known only at the end ([0, 1] or [0, 255]), so they are kept as read until then.
+  std::vector<float> float_colours;
+  float max_float_colour = 0;
+
   mesh.xyz.reserve(size_t(vertex->count) * 3);
   if (want_normals) mesh.normals.reserve(size_t(vertex->count) * 3);
+  if (want_colours) mesh.colours.reserve(size_t(vertex->count) * 3);
+  if (want_intensity) mesh.intensity.reserve(size_t(vertex->count));
 
   const bool swap = (encoding == Encoding::kLittle) != (std::endian::native == std::endian::little);
   const char* p = data.data() + std::min(pos, data.size());
@@ -241,7 +331,7 @@ RawMesh read_ply(const std::filesystem::path& path) {
   std::int64_t corners[256];
   std::vector<std::int64_t> big_polygon;
   std::int64_t skipped_faces = 0;
-  double values[6] = {};
+  double values[kValueSlots] = {};
 
   for (const Element& e : elements) {
     const bool is_vertex = &e == vertex;
@@ -270,7 +360,7 @@ RawMesh read_ply(const std::filesystem::path& path) {
             v = read_binary(p, prop.type, swap);
             p += n;
           }
-          if (slot >= 0 && slot < 6) values[slot] = v;
+          if (slot >= 0 && slot != kFaceSlot) values[slot] = v;
           continue;
         }
         // A list property: count, then that many items.
@@ -299,7 +389,7 @@ RawMesh read_ply(const std::filesystem::path& path) {
                          std::to_string(std::uint64_t(std::min(count_d, 1e19))) + " items, more than the file holds");
         const auto count = static_cast<size_t>(count_d);
         std::int64_t* dst = corners;
-        if (slot == 6 && count > 256) {
+        if (slot == kFaceSlot && count > 256) {
           big_polygon.resize(count);
           dst = big_polygon.data();
         }
@@ -312,21 +402,31 @@ RawMesh read_ply(const std::filesystem::path& path) {
           } else {
             const size_t n = type_size(prop.type);
             if (size_t(end - p) < n) truncated();
-            if (slot == 6) v = read_binary(p, prop.type, swap);
+            if (slot == kFaceSlot) v = read_binary(p, prop.type, swap);
             p += n;
           }
-          if (slot == 6) {
+          if (slot == kFaceSlot) {
             if (!(v >= -9e15 && v <= 9e15) || v != std::floor(v))  // NaN, fractions and the unrepresentable
               fail(path, "element '" + e.name + "' record " + std::to_string(r) + " has the vertex index '" +
                              short_number(v) + "', not an integer");
             dst[k] = static_cast<std::int64_t>(v);
           }
         }
-        if (slot == 6 && !add_polygon(mesh.faces, dst, count)) ++skipped_faces;
+        if (slot == kFaceSlot && !add_polygon(mesh.faces, dst, count)) ++skipped_faces;
       }
       if (is_vertex) {
         mesh.xyz.insert(mesh.xyz.end(), values, values + 3);
         if (want_normals) mesh.normals.insert(mesh.normals.end(), values + 3, values + 6);
+        if (want_intensity) mesh.intensity.push_back(float(values[kIntensitySlot]));
+        for (int k = 0; want_colours && k < 3; ++k) {
+          const double c = values[kColourSlot + k];
+          if (is_float(colour_type[k])) {
+            float_colours.push_back(float(c));
+            max_float_colour = std::max(max_float_colour, float(c));
+          } else {
+            mesh.colours.push_back(integer_colour(c, colour_type[k]));
+          }
+        }
       }
     }
   }
@@ -336,6 +436,27 @@ RawMesh read_ply(const std::filesystem::path& path) {
   } else if (p != end) {
     mesh.warnings.push_back(path.string() + ": " + std::to_string(end - p) +
                             " bytes after the last declared element were ignored");
+  }
+  if (want_colours && !float_colours.empty()) {
+    // Interleaved with any integer channels: rebuild the three channels in order.
+    const bool scaled = max_float_colour > 1.0f;
+    if (scaled)
+      mesh.warnings.push_back(path.string() + ": float colours above 1 (up to " + short_number(max_float_colour) +
+                              ") were read as [0, 255], not [0, 1]");
+    std::vector<std::uint8_t> colours;
+    colours.reserve(size_t(vertex->count) * 3);
+    size_t next_float = 0, next_int = 0;
+    for (std::int64_t i = 0; i < vertex->count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        if (!is_float(colour_type[k])) {
+          colours.push_back(mesh.colours[next_int++]);
+          continue;
+        }
+        const double c = float_colours[next_float++];
+        colours.push_back(std::isfinite(c) ? std::uint8_t(std::clamp(std::round(scaled ? c : 255.0 * c), 0.0, 255.0))
+                                           : 0);
+      }
+    mesh.colours = std::move(colours);
   }
   if (skipped_faces > 0)
     mesh.warnings.push_back(std::to_string(skipped_faces) + " faces with fewer than 3 vertices were skipped");

@@ -30,6 +30,29 @@ std::string read_file(const std::filesystem::path& path) {
   return data;
 }
 
+std::string read_head(const std::filesystem::path& path, bool (*complete)(std::string_view), std::uint64_t& file_size) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, expected a point cloud or mesh file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot be opened for reading");
+  in.seekg(0, std::ios::end);
+  const auto size = in.tellg();
+  if (size < 0) fail(path, "cannot determine the file size");
+  if (size == 0) fail(path, "file is empty");
+  file_size = std::uint64_t(size);
+  in.seekg(0);
+  std::string head;
+  constexpr size_t kBlock = 1 << 16;
+  while (head.size() < file_size && !complete(head)) {
+    const size_t at = head.size();
+    head.resize(std::min<std::uint64_t>(file_size, at + kBlock));
+    in.read(head.data() + at, std::streamsize(head.size() - at));
+    if (!in) fail(path, "read error");
+  }
+  return head;
+}
+
 void Tokenizer::skip_space() {
   while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n' || *p_ == '\f' || *p_ == '\v')) {
     if (*p_ == '\n') ++line_;
@@ -98,6 +121,8 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
   result.file_points = n_file;
   if (n_file == 0) io::fail(path, "contains no points");
   const bool has_normals = raw.normals.size() == raw.xyz.size();
+  const bool has_colours = raw.colours.size() == raw.xyz.size();
+  const bool has_intensity = Index(raw.intensity.size()) == n_file;
 
   for (size_t f = 0; f < raw.faces.size(); ++f) {
     if (raw.faces[f] < 0 || raw.faces[f] >= n_file)
@@ -116,6 +141,8 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
 
   Eigen::Matrix3Xd positions(3, kept);
   Eigen::Matrix3Xd normals(3, has_normals ? kept : 0);
+  Matrix3Xu8 colours(3, has_colours ? kept : 0);
+  Eigen::VectorXf intensity(has_intensity ? kept : 0);
   VectorXi64 source_index(kept);
   Index bad_normals = 0;
   for (Index i = 0; i < n_file; ++i) {
@@ -123,6 +150,8 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
     if (j < 0) continue;
     positions.col(j) = Eigen::Vector3d(raw.xyz[size_t(3 * i)], raw.xyz[size_t(3 * i + 1)], raw.xyz[size_t(3 * i + 2)]);
     source_index(j) = i;
+    if (has_colours) colours.col(j) = Eigen::Map<const Eigen::Matrix<std::uint8_t, 3, 1>>(&raw.colours[size_t(3 * i)]);
+    if (has_intensity) intensity(j) = raw.intensity[size_t(i)];
     if (has_normals) {
       Eigen::Vector3d n(raw.normals[size_t(3 * i)], raw.normals[size_t(3 * i + 1)], raw.normals[size_t(3 * i + 2)]);
       const double len = n.norm();
@@ -163,36 +192,43 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
   PointSet& ps = result.points;
   ps.set_positions(std::move(positions));
   if (keep_normals) ps.set_normals(std::move(normals));
+  if (has_colours) ps.set_colours(std::move(colours));
+  if (has_intensity) ps.set_intensity(std::move(intensity));
   if (!tris.empty()) ps.set_faces(Eigen::Map<const Matrix3Xi>(tris.data(), 3, Eigen::Index(tris.size() / 3)));
   ps.set_source_index(std::move(source_index));
   ps.set_viewpoint(raw.viewpoint);
 
   if (options.morton_sort && kept > 1) {
     const std::vector<Index> order = morton_order(ps.positions());
-    std::vector<std::int32_t> inverse(order.size());
-    Eigen::Matrix3Xd p(3, kept), nrm(3, ps.has_normals() ? kept : 0);
-    VectorXi64 src(kept);
+    std::vector<std::int32_t> inverse(order.size()), sorted(order.size());
     for (Index i = 0; i < kept; ++i) {
-      const Index o = order[size_t(i)];
-      inverse[size_t(o)] = std::int32_t(i);
-      p.col(i) = ps.positions().col(o);
-      if (ps.has_normals()) nrm.col(i) = ps.normals().col(o);
-      src(i) = ps.source_index()(o);
+      sorted[size_t(i)] = std::int32_t(order[size_t(i)]);
+      inverse[size_t(order[size_t(i)])] = std::int32_t(i);
     }
+    // Every per-point attribute in the new order; the faces renumbered, the viewpoint kept.
+    PointSet reordered = subset(ps, sorted);
     if (ps.has_faces()) {
       Matrix3Xi faces = ps.faces();
       for (Eigen::Index k = 0; k < faces.size(); ++k) faces.data()[k] = inverse[size_t(faces.data()[k])];
-      ps.set_faces(std::move(faces));
+      reordered.set_faces(std::move(faces));
     }
-    ps.set_positions(std::move(p));
-    if (ps.has_normals()) ps.set_normals(std::move(nrm));
-    ps.set_source_index(std::move(src));
+    reordered.set_viewpoint(ps.viewpoint());
+    ps = std::move(reordered);
   }
   ps.check();
   return result;
 }
 
 }  // namespace
+
+std::optional<FileHeader> read_header(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ply") return io::read_ply_header(path);
+  if (ext == ".pcd") return io::read_pcd_header(path);
+  if (!is_supported_extension(path))
+    io::fail(path, "unknown format '" + ext + "' (expected .ply, .pcd, .obj, .off, .stl or .xyz)");
+  return std::nullopt;
+}
 
 bool is_supported_extension(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,23 @@ struct LoadResult {
 };
 
 LoadResult read_point_set(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// What the header of a PLY or PCD file says, read without its body (as `pdal info --summary` does).
+struct FileHeader {
+  std::string format;                        // "ply", "pcd"
+  std::string encoding;                      // as LoadResult::encoding
+  Index points = 0;                          // vertices (PLY) or POINTS (PCD) declared, non-finite ones included
+  Index faces = 0;                           // PLY face element records (polygons, before they are split), 0 for PCD
+  std::vector<std::string> elements;         // PLY: every element with its count, "vertex 40256"; PCD: "WIDTH x HEIGHT"
+  std::vector<std::string> properties;       // PLY: "vertex.x float", "face.vertex_indices list uchar int"; PCD: "x F4"
+  std::optional<Eigen::Vector3d> viewpoint;  // PCD VIEWPOINT origin
+  Index header_bytes = 0;                    // the bytes read
+};
+
+// The header of a PLY or PCD file, read and checked as read_point_set checks it (the counts against the file's size
+// included), without reading the points: a few kilobytes whatever the file's size. Nothing for formats without a
+// header (OBJ, OFF, STL, XYZ). Throws IoError naming the file.
+std::optional<FileHeader> read_header(const std::filesystem::path& path);
 
 // True for the extensions read_point_set accepts.
 bool is_supported_extension(const std::filesystem::path& path);

@@ -1,6 +1,8 @@
 // XYZ reader: one point per line, "x y z" or "x y z nx ny nz", separated by spaces, tabs or commas; '#' comments.
-// Every data line must have the same number of columns. Columns 4-6 are taken as normals only when they are unit
-// vectors (some tools write colours there); otherwise they are ignored with a warning.
+// Every data line must have the same number of columns. Columns 4-6 are taken as normals when they are unit vectors;
+// otherwise as colours "r g b" (as CloudCompare and MeshLab export them) when every value lies in [0, 255]: [0, 1]
+// floats when none exceeds 1 (scaled by 255), else [0, 255] (rounded); anything else is ignored with a warning.
+#include <algorithm>
 #include <cmath>
 
 #include "nodes/io/raw_mesh.h"
@@ -46,10 +48,22 @@ RawMesh read_xyz(const std::filesystem::path& path) {
     for (size_t i = 0; i + 2 < extra.size() && unit; i += 3)
       unit = std::abs(std::sqrt(extra[i] * extra[i] + extra[i + 1] * extra[i + 1] + extra[i + 2] * extra[i + 2]) - 1) <
              0.1;
-    if (unit)
+    bool colour_range = true;
+    double largest = 0;
+    for (const double v : extra) {
+      colour_range = colour_range && v >= 0 && v <= 255;  // false for NaN too
+      largest = std::max(largest, v);
+    }
+    if (unit) {
       mesh.normals = std::move(extra);
-    else
-      mesh.warnings.push_back(path.string() + ": columns 4-6 are not unit normals and were ignored");
+    } else if (colour_range) {
+      const double scale = largest <= 1 ? 255.0 : 1.0;
+      mesh.colours.reserve(extra.size());
+      for (const double v : extra) mesh.colours.push_back(std::uint8_t(std::round(v * scale)));
+    } else {
+      mesh.warnings.push_back(path.string() +
+                              ": columns 4-6 are neither unit normals nor colours in [0, 255] and were ignored");
+    }
   }
   return mesh;
 }

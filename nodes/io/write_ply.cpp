@@ -63,10 +63,14 @@ void write_ply(const std::filesystem::path& path, const PointSet& points, const 
   const auto put_real = [exact](std::string& buf, double v) { exact ? put(buf, v) : put(buf, float(v)); };
   points.check();
   const Index n = points.size();
-  for (const PlyProperty& p : extra)
+  for (const PlyProperty& p : extra) {
+    if ((points.has_colours() && (p.name == "red" || p.name == "green" || p.name == "blue")) ||
+        (points.has_intensity() && p.name == "intensity"))
+      throw InvariantError("write_ply: property '" + p.name + "' is the point set's own: set it there");
     if (Index(p.values.size()) != n)
       throw InvariantError("write_ply: property '" + p.name + "' has " + std::to_string(p.values.size()) +
                            " values for " + std::to_string(n) + " points");
+  }
   std::ostringstream header;
   header << "ply\nformat binary_little_endian 1.0\ncomment written by scanfill\n";
   header << "element vertex " << n << "\n" << r << "x\n" << r << "y\n" << r << "z\n";
@@ -79,6 +83,8 @@ void write_ply(const std::filesystem::path& path, const PointSet& points, const 
                                                              : "float";
     header << "property " << type << " " << p.name << "\n";
   }
+  if (points.has_colours()) header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (points.has_intensity()) header << "property float intensity\n";
   if (points.has_faces())
     header << "element face " << points.faces().cols() << "\nproperty list uchar int vertex_indices\n";
   header << "end_header\n";
@@ -112,6 +118,9 @@ void write_ply(const std::filesystem::path& path, const PointSet& points, const 
               break;
           }
         }
+        if (points.has_colours())
+          for (int k = 0; k < 3; ++k) put(buf, points.colours()(k, i));
+        if (points.has_intensity()) put(buf, points.intensity()(i));
       }
       out.write(buf.data(), std::streamsize(buf.size()));
     }

@@ -96,6 +96,13 @@ double eq5_unary(const PointSet& source, const KdTree& source_tree, const PointS
   return std::min(o.unary_cap, d * d / scales.position2 + (1 - c) / scales.normal2);
 }
 
+// Ours: each sample's own preference for the transform that keeps +z up, o.upright_unary (1 - cos tilt) / 2. Where
+// the template fits a flip and a turn about the vertical alike (a box's back faces), the label cost alone lets one flip
+// cover the back faces and the bottom at once, turning the style upside down; this makes each sample pay for it.
+double upright_unary(const Similarity& q, const LabelOptions& o) {
+  return o.upright_unary * (1 - q.rotation(2, 2)) / 2;
+}
+
 void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const PointSet& target,
                       const std::vector<SupportedTransform>& transforms, double spacing, DataScales scales,
                       const LabelOptions& o, LabelingProblem& problem) {
@@ -105,7 +112,8 @@ void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const P
       const int l = problem.unary_label[size_t(e)];
       problem.unary_cost[size_t(e)] =
           l == L ? o.self_cost
-                 : eq5_unary(source, source_tree, target, t, transforms[size_t(l)].transform, spacing, scales, o);
+                 : eq5_unary(source, source_tree, target, t, transforms[size_t(l)].transform, spacing, scales, o) +
+                       upright_unary(transforms[size_t(l)].transform, o);
     }
   });
 }

@@ -20,6 +20,9 @@
 //    1%, translation under alpha) and h = N (ln 2 + sum_a (1 - cos 4 R_a) + (s - 1)^2) otherwise, R_a the Euler angles
 //    (R = R_x R_y R_z), so N ln 2 for an axis rotation at unit scale.
 //  - the self-reference label has the constant unary self_cost.
+//  - each transform's unary also carries upright_unary (1 - cos tilt) / 2: where the template fits a flip and a turn
+//    about the vertical alike (a box's unseen sides), the label cost alone lets one flip cover the sides and the
+//    bottom together, turning their style upside down; per sample, the upright turn wins where it fits.
 //  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees (the paper's: every
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
@@ -49,6 +52,9 @@ struct LabelOptions {
   double rotation_prior = 0.5;          // eq. 9 weight of the residual rotation; >= 0
   double upright_prior = 1.0;           // weight of the tilt of +z, (1 - cos tilt) / 2: a turn about the vertical
                                         // before a flip that turns the object over; >= 0
+  double upright_unary = 1.0;           // per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and
+                                        // an upright turn fit the template alike, each sample prefers the upright
+                                        // one; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
   double mrf_radius = 0.0;              // if > 0: MRF neighbours are all samples within this many alpha (the paper's

@@ -25,6 +25,10 @@ OptionTable option_table(LabelOptions& l) {
         "weight of the tilt of +z, (1 - cos tilt) / 2: turning the object over costs more than a turn about the "
         "vertical; >= 0",
         non_negative(&l.upright_prior)},
+       {"upright_unary", &l.upright_unary,
+        "per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and an upright turn fit the template "
+        "alike, each sample prefers the upright one; >= 0",
+        non_negative(&l.upright_unary)},
        {"scale_prior", &l.scale_prior, "eq. 9 weight of |log2 scale|; >= 0", non_negative(&l.scale_prior)},
        {"mrf_k", &l.mrf_k, "MRF neighbours per sample; [1, 32]",
         range(&l.mrf_k, 1, 32, false, "an integer in [1, 32]")},
@@ -54,6 +58,7 @@ void use_paper_parameters(LabelOptions& l) {
   l.paper_label_costs = true;
   l.mrf_radius = 5.0;
   l.mrf_min_normal_dot = 0.0;
+  l.upright_unary = 0.0;
 }
 
 }  // namespace scanfill

@@ -40,6 +40,7 @@ struct Candidates {
   VectorXi32 face;           // mesh candidates
   Eigen::Matrix3Xd bary;
   VectorXi64 source;  // cloud candidates: index in the input
+  VectorXi64 column;  // cloud candidates: column of the point set sampled (for its colours and intensity)
 };
 
 Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
@@ -185,17 +186,14 @@ PointSet merge_duplicates(const PointSet& cloud, Index& merged) {
     }
   if (merged == 0) return {};
   const Index kept = n - merged;
-  Eigen::Matrix3Xd positions(3, kept), normals(3, cloud.has_normals() ? kept : 0);
+  std::vector<std::int32_t> first;
+  first.reserve(size_t(kept));
+  for (Index i = 0; i < n; ++i)
+    if (!duplicate[size_t(i)]) first.push_back(std::int32_t(i));
+  PointSet out = subset(cloud, first);  // normals, colours, intensity with their points
   VectorXi64 source(kept);
-  for (Index i = 0, j = 0; i < n; ++i) {
-    if (duplicate[size_t(i)]) continue;
-    positions.col(j) = P.col(i);
-    if (cloud.has_normals()) normals.col(j) = cloud.normals().col(i);
-    source(j) = cloud.has_source_index() ? cloud.source_index()(i) : i;
-    ++j;
-  }
-  PointSet out(std::move(positions));
-  if (cloud.has_normals()) out.set_normals(std::move(normals));
+  for (Index j = 0; j < kept; ++j)
+    source(j) = cloud.has_source_index() ? cloud.source_index()(first[size_t(j)]) : first[size_t(j)];
   out.set_source_index(std::move(source));
   out.set_viewpoint(cloud.viewpoint());
   return out;
@@ -329,8 +327,8 @@ Candidates candidates(const PointSet& input, const SampleOptions& options, KdTre
     }
     cand.positions = input.positions();
     cand.normals = input.normals();
-    cand.source =
-        input.has_source_index() ? input.source_index() : VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
+    cand.column = VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
+    cand.source = input.has_source_index() ? input.source_index() : cand.column;
     // A cloud far denser than the samples asked for (a 10^6-point scan sampled to 10^4) would give every candidate
     // hundreds of neighbours within d_max (about 3.6 per point per sample): gigabytes of lists. Above kThinAbove points
     // per sample it is first thinned on a grid sized for about kThinTo candidates per sample (a surface crosses about
@@ -343,10 +341,12 @@ Candidates candidates(const PointSet& input, const SampleOptions& options, KdTre
         thinned.positions.resize(3, Index(kept.size()));
         if (cand.normals.cols() == input.size()) thinned.normals.resize(3, Index(kept.size()));
         thinned.source.resize(Index(kept.size()));
+        thinned.column.resize(Index(kept.size()));
         for (Index k = 0; k < Index(kept.size()); ++k) {
           thinned.positions.col(k) = cand.positions.col(kept[size_t(k)]);
           if (thinned.normals.cols() > 0) thinned.normals.col(k) = cand.normals.col(kept[size_t(k)]);
           thinned.source[k] = cand.source[kept[size_t(k)]];
+          thinned.column[k] = cand.column[kept[size_t(k)]];
         }
         cand = std::move(thinned);
       }
@@ -494,6 +494,36 @@ std::vector<std::int32_t> eliminate(WeightGraph& g, Index n_target, int& rounds,
   return live;
 }
 
+// The samples' colours and intensity: a cloud sample's are its point's; a mesh sample's are its face corners',
+// interpolated at its barycentrics (colours rounded).
+void carry_appearance(const PointSet& input, const Candidates& cand, const std::vector<Index>& kept,
+                      const std::vector<Index>& order, PointSet& out) {
+  const Index n = Index(kept.size());
+  const bool mesh = input.has_faces();
+  Matrix3Xu8 colours(3, input.has_colours() ? n : 0);
+  Eigen::VectorXf intensity(input.has_intensity() ? n : 0);
+  for (Index k = 0; k < n; ++k) {
+    const Index c = kept[size_t(order[size_t(k)])];
+    if (!mesh) {
+      if (colours.cols()) colours.col(k) = input.colours().col(cand.column(c));
+      if (intensity.size()) intensity(k) = input.intensity()(cand.column(c));
+      continue;
+    }
+    const Eigen::Vector3i corner = input.faces().col(cand.face(c)).cast<int>();
+    const Eigen::Vector3d b = cand.bary.col(c);
+    Eigen::Vector3d rgb = Eigen::Vector3d::Zero();
+    double value = 0;
+    for (int j = 0; j < 3; ++j) {
+      if (colours.cols()) rgb += b(j) * input.colours().col(corner(j)).cast<double>();
+      if (intensity.size()) value += b(j) * double(input.intensity()(corner(j)));
+    }
+    if (colours.cols()) colours.col(k) = rgb.array().round().min(255.0).max(0.0).cast<std::uint8_t>().matrix();
+    if (intensity.size()) intensity(k) = float(value);
+  }
+  if (colours.cols()) out.set_colours(std::move(colours));
+  if (intensity.size()) out.set_intensity(std::move(intensity));
+}
+
 void survivors(const PointSet& input, const Candidates& cand, const std::vector<std::int32_t>& live, bool use_normals,
                SampleResult& result) {
   const std::vector<Index> kept(live.begin(), live.end());  // ascending candidate order
@@ -524,6 +554,7 @@ void survivors(const PointSet& input, const Candidates& cand, const std::vector<
   else
     out.set_source_index(std::move(S));
   out.set_viewpoint(input.viewpoint());
+  if (input.has_colours() || input.has_intensity()) carry_appearance(input, cand, kept, order, out);
   out.check();
   KdTree out_tree;
   out_tree.build(out.positions());

@@ -4,9 +4,13 @@
 #include <pcl/point_types.h>
 #include <pcl/surface/poisson.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
+#include <string_view>
 #include <tuple>
 
 #include "nodes/core/errors.h"
@@ -51,7 +55,81 @@ double cell_size_for(const Eigen::Matrix3Xd& p, const BoundingBox& box, Index bu
 struct Mesh {
   Eigen::Matrix3Xd vertices;
   Matrix3Xi faces;
+  Index diagnostics = 0;  // PoissonRecon's stdout lines about unpaired edges
 };
+
+// Captures what is written to file descriptor 1 (stdout) while it lives: PoissonRecon prints its diagnostics there
+// with printf and no switch turns them off (see surface.h). fd 1 is pointed at an anonymous temporary file and put back
+// in the destructor, whatever happens in between (an exception included). Whatever else a thread of the process wrote
+// to stdout in that window is not lost: take() hands back the text, and the caller passes on the lines that are not
+// PoissonRecon's. If stdout is closed or no temporary file can be made, nothing is captured and the diagnostics go
+// where they always went.
+class StdoutCapture {
+ public:
+  StdoutCapture() {
+    std::fflush(stdout);
+    file_ = std::tmpfile();
+    if (!file_) return;
+    saved_ = ::dup(STDOUT_FILENO);
+    if (saved_ >= 0 && ::dup2(::fileno(file_), STDOUT_FILENO) < 0) {
+      ::close(saved_);
+      saved_ = -1;
+    }
+  }
+  ~StdoutCapture() {
+    restore();
+    if (file_) std::fclose(file_);
+  }
+  StdoutCapture(const StdoutCapture&) = delete;
+  StdoutCapture& operator=(const StdoutCapture&) = delete;
+
+  // Puts stdout back and returns what was written to it meanwhile (nothing when it could not be captured).
+  std::string take() {
+    if (saved_ < 0) return {};
+    restore();
+    std::string text;
+    std::rewind(file_);
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, file_)) > 0;) text.append(buf, n);
+    return text;
+  }
+
+ private:
+  void restore() {
+    if (saved_ < 0) return;
+    std::fflush(stdout);  // PoissonRecon's printf output still in stdio's buffer goes to the file first
+    ::dup2(saved_, STDOUT_FILENO);
+    ::close(saved_);
+    saved_ = -1;
+  }
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;  // the real stdout while captured
+};
+
+// PoissonRecon's lines in `text` counted; the other lines written to the real stdout, as they would have been.
+Index poisson_diagnostics(const std::string& text) {
+  static const char* const kPrefixes[] = {"Vertex pair not in list", "Could not find vertex", "Bad Edge"};
+  Index count = 0;
+  std::string others;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    end = end == std::string::npos ? text.size() : end + 1;
+    const std::string_view line(text.data() + start, end - start);
+    bool poisson = false;
+    for (const char* prefix : kPrefixes) poisson = poisson || line.starts_with(prefix);
+    if (poisson)
+      ++count;
+    else
+      others.append(line);
+    start = end;
+  }
+  if (!others.empty()) {
+    std::fwrite(others.data(), 1, others.size(), stdout);
+    std::fflush(stdout);
+  }
+  return count;
+}
 
 // pcl::Poisson on one thread. PoissonRecon's octree allocator and node data are static: one reconstruction at a time.
 Mesh run_poisson(const PointSet& points, const SurfaceOptions& options) {
@@ -71,8 +149,10 @@ Mesh run_poisson(const PointSet& points, const SurfaceOptions& options) {
   poisson.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> vertices;
   std::vector<pcl::Vertices> polygons;
+  StdoutCapture capture;
   poisson.reconstruct(vertices, polygons);
-  Mesh mesh{Eigen::Matrix3Xd(3, Index(vertices.size())), Matrix3Xi(3, Index(polygons.size()))};
+  const Index diagnostics = poisson_diagnostics(capture.take());
+  Mesh mesh{Eigen::Matrix3Xd(3, Index(vertices.size())), Matrix3Xi(3, Index(polygons.size())), diagnostics};
   for (size_t i = 0; i < vertices.size(); ++i)
     mesh.vertices.col(Index(i)) = vertices[i].getVector3fMap().cast<double>();
   Index f = 0;
@@ -206,6 +286,11 @@ SurfaceResult poisson_surface(const PointSet& points, const SurfaceOptions& opti
   const Mesh poisson = run_poisson(thinned, options);
   result.poisson_vertices = poisson.vertices.cols();
   result.poisson_faces = poisson.faces.cols();
+  result.diagnostics = poisson.diagnostics;
+  if (poisson.diagnostics > 0)
+    result.warnings.push_back("PoissonRecon could not pair " + std::to_string(poisson.diagnostics) +
+                              " iso-surface edges (its 'Vertex pair not in list' reports); the mesh may have small "
+                              "holes there");
   const std::vector<double> spacing = local_spacing(tree, thinned.positions());
   result.spacing = median(spacing);
   Mesh mesh = trimmed(poisson, near_vertices(poisson.vertices, tree, spacing, result.spacing, options.trim_distance));

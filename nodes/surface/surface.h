@@ -10,7 +10,12 @@
 // 2. pcl::Poisson<PointNormal> at `depth` with `samples_per_node`, on one thread: PCL's Poisson parallelises with
 //    OpenMP, and scanfill keeps one threading runtime (TBB, DESIGN section 6); one thread also makes the mesh the same
 //    bytes whatever the run's thread count. It is not reentrant (PoissonRecon keeps static state), so calls are
-//    serialised.
+//    serialised. PoissonRecon 4 reports iso-surface edges it cannot pair with printf on stdout ("Vertex pair not in
+//    list 2 ..." from GetMCIsoEdges, compiled into libpcl_surface; the branch prints when the pair *is* in its map, the
+//    mirror of branch 1's test, and then leaves that iso-curve unclosed). It happens on some inputs only (the vase at
+//    depth 7 with 2.5x10^4 points: twice), is unconditional inside PCL and cannot be switched off, so stdout (fd 1) is
+//    captured around the call (StdoutCapture in surface.cpp): PoissonRecon's lines become `diagnostics` and a warning,
+//    anything else written meanwhile is passed on to the real stdout after the call.
 // 3. Trimming: Poisson returns a closed surface and closes every hole (an open top, an unseen underside) with a smooth
 //    blob. A triangle is dropped when one of its corners lies farther than `trim_distance` spacings from the nearest
 //    thinned point; the vertices no triangle uses go too. A point's spacing is the side of the patch of surface it
@@ -19,6 +24,9 @@
 //    PoissonRecon's density trimming: PCL 1.13's Poisson (PoissonRecon 4) reports no per-vertex density.
 // 4. Vertex normals: area-weighted face normals, the whole mesh flipped when they disagree with the points' normals.
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "nodes/core/point_set.h"
 
@@ -38,6 +46,8 @@ struct SurfaceResult {
   Index poisson_vertices = 0;  // Poisson's mesh before trimming
   Index poisson_faces = 0;
   Index trimmed_faces = 0;  // triangles dropped as too far from the points
+  Index diagnostics = 0;    // lines PoissonRecon printed about edges it could not pair (see 2. above)
+  std::vector<std::string> warnings;
 };
 
 // points  N points with normals (N >= 3). Throws InvariantError without normals, ConfigError on options out of range.

@@ -16,6 +16,8 @@ TransferPlan plan_transfer(const TransferInputs& in) {
   plan.exemplar_points = in.exemplar.size();
   if (!in.exemplar.empty()) plan.exemplar_bounds = bounding_box(in.exemplar.positions());
   plan.mesh_output = in.exemplar.has_faces();
+  plan.colours = in.exemplar.has_colours();
+  plan.intensity = in.exemplar.has_intensity();
   const Similarity& W = in.working_to_output;
   for (const Patch& patch : s.patches) {
     const Similarity to_working = patch.from_target ? Similarity{} : in.exemplar_to_working;

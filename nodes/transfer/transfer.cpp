@@ -31,6 +31,8 @@ std::vector<std::vector<std::int32_t>> carried_of(const TransferPlan& plan) {
 // The output being filled, patch by patch.
 struct Filling {
   Eigen::Matrix3Xd P, N;
+  Matrix3Xu8 C;       // 3 by 0 unless the plan has colours
+  Eigen::VectorXf I;  // empty unless the plan has intensity
   std::vector<Origin> origin;
   std::vector<std::int32_t> label;
   std::vector<Eigen::Vector3i> tris;
@@ -52,6 +54,8 @@ void fill_patch(const TransferPlan& plan, size_t p, const PointSet& full, const 
     // The offset moves along the sample's normal (both in the output frame).
     out.P.col(o) = whole.apply(full.positions().col(Index(i))) + plan.shift[size_t(k)] * plan.normal.col(k);
     out.N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(Index(i))) : plan.normal.col(k);
+    if (plan.colours) out.C.col(o) = patch.from_target ? kCopiedColour : full.colours().col(Index(i));
+    if (plan.intensity) out.I(o) = patch.from_target ? kCopiedIntensity : full.intensity()(Index(i));
     out.origin[size_t(o)] = patch.origin;
     out.label[size_t(o)] = patch.origin == Origin::kExemplar ? -1 : patch.label;
   });
@@ -63,10 +67,12 @@ void fill_patch(const TransferPlan& plan, size_t p, const PointSet& full, const 
     }
 }
 
-TransferResult result_of(Filling&& f) {
+TransferResult result_of(const TransferPlan& plan, Filling&& f) {
   TransferResult out;
   out.points = PointSet(std::move(f.P));
   out.points.set_normals(std::move(f.N));
+  if (plan.colours) out.points.set_colours(std::move(f.C));
+  if (plan.intensity) out.points.set_intensity(std::move(f.I));
   out.origin = std::move(f.origin);
   out.label = std::move(f.label);
   if (!f.tris.empty()) {
@@ -101,6 +107,8 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
                           const ProgressFn& progress) {
   if (!exemplar || !uses(plan, false)) exemplar = nullptr;
   if (!copies || !uses(plan, true)) copies = nullptr;
+  if (exemplar && ((plan.colours && !exemplar->has_colours()) || (plan.intensity && !exemplar->has_intensity())))
+    throw InvariantError("apply_plan: the plan's exemplar had colours or intensity that these points lack");
   const auto made = carried_of(plan);
   const auto exemplar_nearest = exemplar ? nearest_samples(*exemplar, plan.exemplar_samples) : std::vector<int>{};
   report(progress, 0.2);
@@ -123,6 +131,8 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
   }
   Filling out{Eigen::Matrix3Xd(3, total),
               Eigen::Matrix3Xd(3, total),
+              Matrix3Xu8(3, plan.colours ? total : 0),
+              Eigen::VectorXf(plan.intensity ? total : 0),
               std::vector<Origin>(size_t(total)),
               std::vector<std::int32_t>(size_t(total)),
               {},
@@ -132,7 +142,7 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
     if (full) fill_patch(plan, p, *full, emitted[p], out);
     report(progress, 0.4 + 0.6 * double(p + 1) / double(np));
   }
-  return result_of(std::move(out));
+  return result_of(plan, std::move(out));
 }
 
 TransferResult transfer_planned(const TransferPlan& plan, const PointSet* exemplar, const PointSet* target,

@@ -15,6 +15,11 @@
 // exemplar can be carried in tiles, each by its own process (`scanfill apply`), and their outputs are disjoint: a
 // point's output depends only on the point and its nearest sample. transfer() is plan_transfer then apply_plan on
 // the whole exemplar and the target's copy surface: the one-process run uses the same code as the tiles.
+//
+// Appearance: when the exemplar has colours or intensity, every output point has them (the plan says so, so that a
+// tile's output and the plan-level copies agree). A point moved from the exemplar (kept or synthesised) keeps its
+// exemplar point's exactly; a point copied from the target, which has no measured appearance in the exemplar, gets
+// kCopiedColour (mid grey) and kCopiedIntensity (0, a scanner's "no return"); its `origin` tells it apart.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +42,9 @@ struct TransferInputs {
   const Similarity& working_to_output;
 };
 
+inline const Eigen::Matrix<std::uint8_t, 3, 1> kCopiedColour{128, 128, 128};
+constexpr float kCopiedIntensity = 0.0f;
+
 // A patch of the plan: which input it carries, what its points are, and where they go.
 struct PlanPatch {
   int label = -1;                     // as Patch::label
@@ -52,6 +60,8 @@ struct TransferPlan {
   Index exemplar_points = 0;          // points of the whole exemplar (sets the copy surface's density)
   BoundingBox exemplar_bounds;        // of the whole exemplar, input frame: points carried must lie inside
   bool mesh_output = false;           // the exemplar is a mesh: triangles whose corners a patch emits come along
+  bool colours = false;               // the exemplar has colours: every output point has them (copies kCopiedColour)
+  bool intensity = false;             // the exemplar has intensity: every output point has it (copies kCopiedIntensity)
   std::vector<PlanPatch> patches;
   // Per carried sample: the synthesis points the align node kept, in synthesis order (K of them).
   std::vector<std::int32_t> patch;  // K: index into patches
@@ -61,7 +71,8 @@ struct TransferPlan {
 };
 
 struct TransferResult {
-  PointSet points;                  // positions, normals, faces when the exemplar is a mesh
+  PointSet points;                  // positions, normals, faces when the exemplar is a mesh; colours, intensity when
+                                    // the exemplar has them
   std::vector<Origin> origin;       // per point
   std::vector<std::int32_t> label;  // per point
 };
@@ -74,7 +85,8 @@ TransferPlan plan_transfer(const TransferInputs& in);
 
 // The points of `exemplar` (input frame; null: none) and of `copies` (the target's copy surface, working frame; null:
 // none) carried through the plan's patches, patch by patch in the plan's order, each input's points in their order.
-// A mesh's triangles whose corners one patch emits come along. The exemplar may be any subset of the planned one.
+// A mesh's triangles whose corners one patch emits come along. The exemplar may be any subset of the planned one; it
+// must have colours and intensity where the plan says the exemplar had them (InvariantError otherwise).
 TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
                           const ProgressFn& progress = {});
 

@@ -40,13 +40,23 @@ TEST(Cli, InfoOnEverySharedFileMatchesTheReaderCounts) {
       {"furniture/meshlab_office_chair.obj", {3476, 6893}},
   };
   for (const auto& [file, counts] : files) {
-    const auto r = run_scanfill("info --json " + q(test::shared_data() / file));
+    const auto r = run_scanfill("info --full --json " + q(test::shared_data() / file));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["read"], "full");
     EXPECT_EQ(j["points"].get<long>(), counts[0]) << file;
     EXPECT_EQ(j["faces"].get<long>(), counts[1]) << file;
     EXPECT_EQ(j["bbox"].size(), 2u);
     EXPECT_TRUE(j["attributes"].is_array());
+    // Without --full, PLY and PCD are read from their header: the points declared (non-finite ones included).
+    const auto h = nlohmann::json::parse(run_scanfill("info --json " + q(test::shared_data() / file)).out);
+    const bool has_header = std::string(file).ends_with(".ply") || std::string(file).ends_with(".pcd");
+    EXPECT_EQ(h["read"], has_header ? "header" : "full") << file;
+    if (has_header) {
+      EXPECT_EQ(h["points"].get<long>(), j["file_points"].get<long>()) << file;
+      EXPECT_FALSE(h.contains("bbox")) << file;
+      EXPECT_LT(h["header_bytes"].get<long>(), 4096) << file;
+    }
   }
   // Every file in the folder loads.
   int n = 0;
@@ -58,6 +68,72 @@ TEST(Cli, InfoOnEverySharedFileMatchesTheReaderCounts) {
     ++n;
   }
   EXPECT_EQ(n, 30);
+}
+
+// `info` reads only the header of PLY and PCD files and says so; --full reads the points. Files whose points are all
+// NaN tell them apart: their header is fine, their points are not.
+TEST(Cli, InfoReadsTheHeaderOnlyUnlessToldToReadThePoints) {
+  test::TempDir dir;
+  const std::string nan4(4, '\xff');  // 0xffffffff: a float NaN
+  std::string ply = "ply\nformat binary_little_endian 1.0\ncomment end_header in a comment\nelement vertex 1000\n"
+                    "property float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+                    "property uchar blue\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int i = 0; i < 1000; ++i) ply += nan4 + nan4 + nan4 + "abc";
+  test::write_bytes(dir / "nan.ply", ply);
+  std::string pcd = "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 50\nHEIGHT 20\n"
+                    "VIEWPOINT 1 2 3 1 0 0 0\nPOINTS 1000\nDATA binary\n";
+  for (int i = 0; i < 1000; ++i) pcd += nan4 + nan4 + nan4 + nan4;
+  test::write_bytes(dir / "nan.pcd", pcd);
+
+  const auto ply_json = run_scanfill("info --json " + q(dir / "nan.ply"));
+  ASSERT_EQ(ply_json.exit_code, 0) << ply_json.out;
+  const auto p = nlohmann::json::parse(ply_json.out);
+  EXPECT_EQ(p["read"], "header");
+  EXPECT_EQ(p["format"], "ply");
+  EXPECT_EQ(p["encoding"], "binary_little_endian");
+  EXPECT_EQ(p["points"].get<long>(), 1000);
+  EXPECT_EQ(p["faces"].get<long>(), 0);
+  EXPECT_EQ(p["elements"], nlohmann::json({"vertex 1000", "face 0"}));
+  EXPECT_EQ(p["properties"][3], "vertex.red uchar");
+  EXPECT_EQ(p["properties"][6], "face.vertex_indices list uchar int");
+  EXPECT_EQ(p["file_bytes"].get<long>(), long(ply.size()));
+  EXPECT_EQ(p["header_bytes"].get<long>(), long(ply.size() - 15000));
+  const auto ply_text = run_scanfill("info " + q(dir / "nan.ply"));
+  EXPECT_NE(ply_text.out.find("  read        header only (" + std::to_string(ply.size() - 15000) + " of " +
+                              std::to_string(ply.size()) + " bytes; --full reads the points"),
+            std::string::npos)
+      << ply_text.out;
+  EXPECT_NE(ply_text.out.find("  points      1000 declared\n"), std::string::npos) << ply_text.out;
+
+  const auto pcd_json = run_scanfill("info --json " + q(dir / "nan.pcd"));
+  ASSERT_EQ(pcd_json.exit_code, 0) << pcd_json.out;
+  const auto c = nlohmann::json::parse(pcd_json.out);
+  EXPECT_EQ(c["read"], "header");
+  EXPECT_EQ(c["points"].get<long>(), 1000);
+  EXPECT_EQ(c["elements"], nlohmann::json({"50 x 20"}));
+  EXPECT_EQ(c["properties"], nlohmann::json({"x F4", "y F4", "z F4", "rgb U4"}));
+  EXPECT_EQ(c["viewpoint"], nlohmann::json({1.0, 2.0, 3.0}));
+
+  // --full reads the points: none is finite.
+  for (const char* name : {"nan.ply", "nan.pcd"}) {
+    const auto full = run_scanfill("info --full " + q(dir / name));
+    EXPECT_EQ(full.exit_code, 1) << name;
+    EXPECT_NE(full.out.find(name + std::string(": has no point with finite coordinates")), std::string::npos)
+        << full.out;
+  }
+  // The header's counts are still checked against the file's size.
+  test::write_bytes(dir / "short.ply", ply.substr(0, ply.size() - 1));
+  const auto truncated = run_scanfill("info " + q(dir / "short.ply"));
+  EXPECT_EQ(truncated.exit_code, 1);
+  EXPECT_NE(truncated.out.find("short.ply: truncated: element 'vertex' declares 1000 records"), std::string::npos)
+      << truncated.out;
+  // Formats without a header are read whole, and say so.
+  test::write_bytes(dir / "p.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+  const auto xyz = run_scanfill("info " + q(dir / "p.xyz"));
+  ASSERT_EQ(xyz.exit_code, 0) << xyz.out;
+  EXPECT_NE(xyz.out.find("  read        all points (the format has no header)\n"), std::string::npos) << xyz.out;
+  EXPECT_NE(xyz.out.find("  bbox max    1 1 0\n"), std::string::npos) << xyz.out;
+  EXPECT_EQ(nlohmann::json::parse(run_scanfill("info --json " + q(dir / "p.xyz")).out)["read"], "full");
 }
 
 TEST(Cli, BadInputsExitNonZeroWithOneLineAndWriteNothing) {
@@ -137,7 +213,7 @@ TEST(Cli, ScanWritesASingleViewAndRefusesBadOptions) {
   const auto ok = run_scanfill("scan --input procedural:vase --output " + q(dir / "s.ply") +
                                " --eye 0,-3,0.5 --target 0,0,0.5 --resolution 320,240 --noise 0.001 --quiet");
   ASSERT_EQ(ok.exit_code, 0) << ok.out;
-  const auto info = nlohmann::json::parse(run_scanfill("info --json " + q(dir / "s.ply")).out);
+  const auto info = nlohmann::json::parse(run_scanfill("info --full --json " + q(dir / "s.ply")).out);
   EXPECT_GT(info["points"].get<long>(), 5000);
   EXPECT_LT(info["bbox"][1][1].get<double>(), 0.25);  // only the side facing the eye at y = -3 (the far side is y > 0)
   const auto bad = run_scanfill("scan --input procedural:vase --output " + q(dir / "b.ply") + " --eye 0,-3");

@@ -125,7 +125,7 @@ TEST(ExitCodes, MalformedInputsExitOneInOneLineNamingTheFile) {
   };
   for (const auto& [name, bytes] : files) {
     test::write_bytes(dir / name, bytes);
-    check({"info " + q(dir / name), 1, (dir / name).string() + ": "});
+    check({"info --full " + q(dir / name), 1, (dir / name).string() + ": "});  // the reader on every byte
   }
   rusage children{};
   getrusage(RUSAGE_CHILDREN, &children);

@@ -161,14 +161,20 @@ TEST(Config, LandmarksFileTakesTwoPickedPointsFilesBesideTheConfig) {
   EXPECT_NE(one.find("correspond.landmarks_file: expected two MeshLab picked-points files"), std::string::npos) << one;
 }
 
-TEST(Config, OutputColourIsByOriginOrByLabel) {
+TEST(Config, OutputColourIsAutoUnlessSaid) {
   test::TempDir dir;
-  test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "output:\n  colour: label\n");
-  EXPECT_TRUE(load_config(dir / "c.yaml").colour_by_label);
   test::write_bytes(dir / "d.yaml", kValidHead);
-  EXPECT_FALSE(load_config(dir / "d.yaml").colour_by_label);
+  EXPECT_EQ(load_config(dir / "d.yaml").output_colour, ColourChoice::kAuto);
+  const std::pair<const char*, ColourChoice> choices[] = {
+      {"origin", ColourChoice::kOrigin}, {"label", ColourChoice::kLabel}, {"scan", ColourChoice::kScan}};
+  for (const auto& [name, choice] : choices) {
+    test::write_bytes(dir / "c.yaml", std::string(kValidHead) + "output:\n  colour: " + name + "\n");
+    EXPECT_EQ(load_config(dir / "c.yaml").output_colour, choice) << name;
+  }
   const std::string e = config_error(dir, std::string(kValidHead) + "output:\n  colour: rainbow\n");
-  EXPECT_NE(e.find("c.yaml:6:11: output.colour: expected origin or label, got 'rainbow'"), std::string::npos) << e;
+  EXPECT_NE(e.find("c.yaml:6:11: output.colour: expected one of auto, origin, label, scan, got 'rainbow'"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Config, OutputSurfaceIsPoissonForCompletionsUnlessSaid) {

@@ -1,8 +1,9 @@
 # cpack -G DEB in the build folder (issue 14): the package holds the program, the library, the headers and the CMake
 # and pkg-config files under /usr, and depends on the Debian packages of the libraries it links (dpkg-shlibdeps),
 # none of them a -dev package.
-#   cmake -DBUILD=DIR -DWORK=DIR -DCPACK=cpack -P deb_test.cmake
-foreach(v BUILD WORK CPACK)
+# It ships scanfill's LICENSE and the third-party notices, and its Maintainer is SCANFILL_MAINTAINER.
+#   cmake -DBUILD=DIR -DWORK=DIR -DCPACK=cpack -DMAINTAINER="Name <email>" -P deb_test.cmake
+foreach(v BUILD WORK CPACK MAINTAINER)
   if(NOT ${v})
     message(FATAL_ERROR "deb_test.cmake: -D${v}= is required")
   endif()
@@ -28,13 +29,28 @@ run("dpkg -c" dpkg -c ${debs})
 set(contents "${output}")
 foreach(path usr/bin/scanfill usr/lib[a-z0-9_/-]*/libscanfill\\.so\\.[0-9.]+ usr/include/scanfill/engine/pipeline\\.h
              usr/include/scanfill/nodes/core/point_set\\.h usr/lib[a-z0-9_/-]*/cmake/scanfill/scanfill-config\\.cmake
-             usr/lib[a-z0-9_/-]*/cmake/scanfill/scanfill-targets\\.cmake usr/lib[a-z0-9_/-]*/pkgconfig/scanfill\\.pc)
+             usr/lib[a-z0-9_/-]*/cmake/scanfill/scanfill-targets\\.cmake usr/lib[a-z0-9_/-]*/pkgconfig/scanfill\\.pc
+             usr/share/doc/scanfill/LICENSE usr/share/doc/scanfill/third_party_notices\\.txt)
   if(NOT contents MATCHES " \\./${path}\n")
     message(FATAL_ERROR "the package lacks ${path}:\n${contents}")
   endif()
 endforeach()
 
-run("dpkg -I" dpkg-deb --field ${debs} Package Version Depends)
+# The notices name every statically linked or compiled-in project.
+run("dpkg-deb -x" dpkg-deb -x ${debs} ${WORK}/root)
+file(READ ${WORK}/root/usr/share/doc/scanfill/third_party_notices.txt output)
+foreach(project "Ceres Solver|Google Inc" "nanoflann|Marius Muja" "FLANN|Andreas M" "Eigen" "LEMON" "Niels Lohmann"
+                "CLI11|University of Cincinnati" "BSD-3-[Cc]lause" "BSD-2-Clause")
+  if(NOT output MATCHES "${project}")
+    message(FATAL_ERROR "third_party_notices.txt lacks ${project}")
+  endif()
+endforeach()
+
+run("dpkg -I" dpkg-deb --field ${debs} Package Version Depends Maintainer)
+string(FIND "${output}" "Maintainer: ${MAINTAINER}\n" at)
+if(at LESS 0)
+  message(FATAL_ERROR "the package's Maintainer is not '${MAINTAINER}' (SCANFILL_MAINTAINER):\n${output}")
+endif()
 set(fields "${output}")
 if(NOT fields MATCHES "Depends: ([^\n]*)")
   message(FATAL_ERROR "the package has no Depends:\n${fields}")

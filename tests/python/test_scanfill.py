@@ -89,7 +89,7 @@ def test_read_returns_arrays_in_file_order(work):
     assert np.array_equal(scan["points"], table[:, :3])  # in file order, float32 values exactly
     raw = table[:, 3:].astype(np.float64)
     assert np.allclose(scan["normals"], raw / np.linalg.norm(raw, axis=1, keepdims=True), rtol=0, atol=1e-15)
-    info = cli("info", "--json", work / "scan.ply").stdout
+    info = cli("info", "--full", "--json", work / "scan.ply").stdout
     assert f'"points": {len(scan["points"])}' in info
     mesh = scanfill.read("procedural:vase_template")
     assert mesh["faces"].shape[1] == 3 and mesh["faces"].dtype == np.int32

@@ -1,8 +1,9 @@
 """scanfill plan / split / apply (issue 13 item 3): the tiles' outputs and the plan-level points are the one-process
-run's output.ply as a set of points; apply is the same at 1 and 2 threads; bad plans and tiles are refused with one
-line naming the file, a non-zero exit and no output."""
+run's output.ply as a set of points, with a scan's own colours and intensity too; apply is the same at 1 and 2
+threads; bad plans and tiles are refused with one line naming the file, a non-zero exit and no output."""
 import pathlib
 
+import numpy as np
 import pytest
 
 from tiles_util import SMALL, VASE, driver, scanfill, single_run
@@ -36,6 +37,51 @@ def test_the_tiles_and_the_plan_points_are_the_single_process_output(planned):
     # And the comparison can tell: one tile left out is not the same.
     driver.merge_ply(d / "short.ply", outputs[1:] + [plan_points])
     assert not driver.same_points(d / "short.ply", single)
+
+
+def applied_and_merged(d, plan, plan_points, tiles):
+    """Every tile through the plan, merged with the plan-level points."""
+    outputs = []
+    for t in tiles:
+        scanfill("apply", "--plan", plan, "--input", t, "--output", d / "out" / t.name, "--quiet")
+        outputs.append(d / "out" / t.name)
+    merged = d / "merged.ply"
+    driver.merge_ply(merged, outputs + [plan_points])
+    return merged
+
+
+def test_a_coloured_scan_tiled_is_the_single_process_output_colours_and_intensity_too(tmp_path):
+    # The small vase's scan as the run loads it, with a colour and an intensity naming each point, as a scan file.
+    d = tmp_path
+    scanfill("split", "--config", VASE, *SMALL, "--tiles", 1, "--output-dir", d / "whole", "--quiet")
+    vertices, _, lines = driver.read_ply(d / "whole" / "tile_0000.ply")
+    n = len(vertices)
+    dtype = np.dtype(vertices.dtype.descr + [("red", "u1"), ("green", "u1"), ("blue", "u1"), ("intensity", "<f4")])
+    scan = np.zeros(n, dtype)
+    for name in vertices.dtype.names:
+        scan[name] = vertices[name]
+    index = np.arange(n)
+    scan["red"], scan["green"], scan["blue"] = index & 255, index >> 8 & 255, 200
+    scan["intensity"] = index + 0.5
+    lines = lines + ["property uchar red", "property uchar green", "property uchar blue", "property float intensity"]
+    driver.write_ply(d / "scan.ply", lines, scan, np.zeros((0, 3), "<i4"))
+    config = d / "coloured.yaml"
+    config.write_text(f"mode: completion\ninputs:\n  scan: {d / 'scan.ply'}\n  template: procedural:vase_template\n"
+                      "output:\n  surface: none\nsample:\n  count: 4000\nsynthesize:\n  gap_distance: 1.0\n")
+    scanfill("--config", config, "--set", f"output.dir={d / 'single'}", "--threads", 2, "--quiet")
+    single = d / "single" / "output.ply"
+    scanfill("plan", "--config", config, "--output", d / "c.plan", "--threads", 1, "--quiet")
+    scanfill("split", "--config", config, "--tiles", 3, "--output-dir", d / "tiles", "--quiet")
+    tiles = sorted((d / "tiles").glob("tile_*.ply"))
+    assert "property uchar red" in driver.read_ply(tiles[0])[2]  # the tiles carry the scan's colours
+    merged = applied_and_merged(d, d / "c.plan", d / "plan_points.ply", tiles)
+    out, _, properties = driver.read_ply(single)
+    assert "property float intensity" in properties and "property uchar red" in properties
+    assert driver.same_points(merged, single)
+    copied = out[out["origin"] == 2]
+    assert len(copied) > 0 and (copied["red"] == 128).all() and (copied["intensity"] == 0).all()
+    kept = out[out["origin"] != 2]
+    assert (kept["blue"] == 200).all()  # the scan's own colours, not by origin
 
 
 def test_apply_is_byte_identical_at_1_and_2_threads(planned):
@@ -72,8 +118,8 @@ def test_bad_plans_are_refused(planned):
     flipped[len(good) // 2] ^= 0x01
     apply_with("corrupt.plan", bytes(flipped), "corrupt")
     other = bytearray(good)
-    other[8] = 2  # the format version
-    apply_with("v2.plan", bytes(other), "format version 2")
+    other[8] = 1  # the format version: an older scanfill's plan
+    apply_with("v1.plan", bytes(other), "format version 1")
     apply_with("a_tile.plan", tile.read_bytes(), "not a scanfill plan")
 
 

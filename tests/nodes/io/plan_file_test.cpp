@@ -20,6 +20,7 @@ PlanFile small_plan() {
   p.exemplar_points = 123;
   p.exemplar_bounds = {Eigen::Vector3d(-1, -2, -3), Eigen::Vector3d(1, 2, 3)};
   p.mesh_output = true;
+  p.colours = true;
   Similarity s;
   s.rotation = Eigen::Matrix3d::Random();
   s.translation = Eigen::Vector3d(0.1, 0.2, 0.3);
@@ -31,7 +32,7 @@ PlanFile small_plan() {
   p.shift = {0.0, 0.25, -1e-3, 2.5};
   p.normal = Eigen::Matrix3Xd::Random(3, 4);
   f.self_label = 7;
-  f.colour_by_label = true;
+  f.colour = PlanColour::kScan;
   return f;
 }
 
@@ -55,13 +56,15 @@ TEST(PlanFile, ReadsBackBitForBit) {
   write_plan(dir / "a.plan", f);
   const PlanFile g = read_plan(dir / "a.plan");
   EXPECT_EQ(g.self_label, 7);
-  EXPECT_TRUE(g.colour_by_label);
+  EXPECT_EQ(g.colour, PlanColour::kScan);
   const TransferPlan &p = f.plan, &q = g.plan;
   EXPECT_EQ(q.exemplar_samples, p.exemplar_samples);
   EXPECT_EQ(q.target_samples, p.target_samples);
   EXPECT_EQ(q.exemplar_points, 123);
   EXPECT_EQ(q.exemplar_bounds.max, p.exemplar_bounds.max);
   EXPECT_TRUE(q.mesh_output);
+  EXPECT_TRUE(q.colours);
+  EXPECT_FALSE(q.intensity);
   ASSERT_EQ(q.patches.size(), 3u);
   EXPECT_EQ(q.patches[1].whole.rotation, p.patches[1].whole.rotation);
   EXPECT_EQ(q.patches[1].whole.scale, 1.7);
@@ -88,7 +91,7 @@ TEST(PlanFile, WrongTruncatedCorruptAndOtherVersionsAreRefused) {
   refused_as(b.substr(0, 20), "truncated");
   std::string other = b;
   other[8] = 9;  // the format version, a uint32 after the magic
-  refused_as(other, "format version 9; this scanfill reads version 1");
+  refused_as(other, "format version 9; this scanfill reads version 2");
   refused_as(b.substr(0, b.size() - 1), "truncated");
   refused_as(b + "x", "overlong");
   std::string flipped = b;
@@ -102,6 +105,10 @@ TEST(PlanFile, AnInconsistentPlanIsRefusedWhenRead) {
   f.plan.base[0] = 99;  // no such exemplar sample
   write_plan(dir / "x.plan", f);
   EXPECT_NE(refusal(dir / "x.plan").find("base out of range"), std::string::npos);
+  f = small_plan();
+  f.plan.colours = false;  // the scan's own colours, but the scan had none
+  write_plan(dir / "y.plan", f);
+  EXPECT_NE(refusal(dir / "y.plan").find("asked for, but it has none"), std::string::npos);
 }
 
 }  // namespace

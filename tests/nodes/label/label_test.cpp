@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 
 #include "nodes/features/estimate_features.h"
@@ -78,6 +79,45 @@ TEST(Label, TheRingMrfLabelsAnIdentityAnalogyAsTheIdentity) {
     EXPECT_EQ(identity, box().samples.size()) << "mrf_radius " << radius;
     EXPECT_LT(r.energy_after, r.energy_before);
   }
+}
+
+// A cube seen from the +x, +y and +z sides (the source) against the whole cube (the target), with three candidates:
+// the identity, the flip about the horizontal diagonal (1, -1, 0) (-x, -y and the bottom onto +y, +x and the top) and
+// the half turn about z (-x, -y onto +x, +y), expanded in that order. The flip alone covers all three unseen faces, so
+// label costs alone pick it for the side faces too, turning their style upside down; the per-sample upright unary makes
+// each side-face sample prefer the half turn, and leaves the flip the bottom, where nothing upright fits.
+TEST(Label, EachSampleOnAnUnseenSideFacePrefersTheHalfTurnAboutTheVerticalToAFlip) {
+  const SampleResult s = sample(make_box(Eigen::Vector3d(0.6, 0.6, 0.6)), {.count = 3000});
+  const PointSet cube = estimate_features(s.samples, {}).points;
+  std::vector<std::int32_t> seen;
+  for (Index t = 0; t < cube.size(); ++t)
+    if (cube.normals().col(t).maxCoeff() > 0.9) seen.push_back(std::int32_t(t));  // the +x, +y and +z faces
+  const PointSet source = subset(cube, seen);
+  std::vector<SupportedTransform> transforms{about(Eigen::Vector3d::UnitZ(), 0), about(Eigen::Vector3d(1, -1, 0), 180),
+                                             about(Eigen::Vector3d::UnitZ(), 180)};
+  for (auto& q : transforms) {
+    q.support.resize(size_t(cube.size()));
+    for (size_t t = 0; t < q.support.size(); ++t) q.support[t] = std::int32_t(t);
+  }
+  auto side_and_bottom_labels = [&](double upright_unary) {
+    LabelOptions o;
+    o.upright_unary = upright_unary;
+    const LabelResult r = label_target(source, cube, transforms, s.spacing, o);
+    std::array<Index, 3> side{}, bottom{};  // per label, on the -x / -y faces and on the bottom
+    for (Index t = 0; t < cube.size(); ++t) {
+      const int l = r.labels[size_t(t)];
+      if (l > 2) continue;
+      if (cube.normals().col(t).z() < -0.9) ++bottom[size_t(l)];
+      if (cube.normals().col(t).head<2>().minCoeff() < -0.9) ++side[size_t(l)];
+    }
+    return std::pair{side, bottom};
+  };
+  const auto [side, bottom] = side_and_bottom_labels(LabelOptions{}.upright_unary);
+  const Index sides = side[0] + side[1] + side[2];
+  EXPECT_GT(side[2], 95 * sides / 100) << "the half turn about z on the unseen side faces";
+  EXPECT_GT(bottom[1], 95 * (bottom[0] + bottom[1] + bottom[2]) / 100) << "the flip on the bottom";
+  const auto [side0, bottom0] = side_and_bottom_labels(0.0);
+  EXPECT_GT(side0[1], 95 * sides / 100) << "without it, label costs alone let the flip take the side faces";
 }
 
 }  // namespace

@@ -210,26 +210,40 @@ struct TwoPatches {
   }
 };
 
-// The points of a result as sortable tuples: position, normal, origin, label.
-std::vector<std::array<double, 8>> point_set_of(const TransferResult& r) {
-  std::vector<std::array<double, 8>> out;
-  for (Index i = 0; i < r.points.size(); ++i) {
-    const auto p = r.points.positions().col(i), n = r.points.normals().col(i);
-    out.push_back(
-        {p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), double(int(r.origin[size_t(i)])), double(r.label[size_t(i)])});
+// The exemplar of TwoPatches with a colour and an intensity that name each point (its index).
+PointSet coloured(PointSet points) {
+  Matrix3Xu8 c(3, points.size());
+  Eigen::VectorXf v(points.size());
+  for (Index i = 0; i < points.size(); ++i) {
+    c.col(i) << std::uint8_t(i & 255), std::uint8_t(i >> 8 & 255), 7;
+    v(i) = float(i) + 0.5f;
+  }
+  points.set_colours(std::move(c));
+  points.set_intensity(std::move(v));
+  return points;
+}
+
+// The points of a result as sortable tuples: position, normal, origin, label, colour and intensity (-1 when absent).
+std::vector<std::array<double, 12>> point_set_of(const TransferResult& r) {
+  std::vector<std::array<double, 12>> out;
+  const PointSet& q = r.points;
+  for (Index i = 0; i < q.size(); ++i) {
+    const auto p = q.positions().col(i), n = q.normals().col(i);
+    const auto c = [&](int k) { return q.has_colours() ? double(q.colours()(k, i)) : -1.0; };
+    out.push_back({p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), double(int(r.origin[size_t(i)])),
+                   double(r.label[size_t(i)]), c(0), c(1), c(2), q.has_intensity() ? double(q.intensity()(i)) : -1.0});
   }
   std::sort(out.begin(), out.end());
   return out;
 }
 
-TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
-  const TwoPatches t;
+// Three tiles of consecutive points, then the plan-level points (the copies) alone, give the whole transfer.
+void expect_tiles_give_the_whole_transfer(const TwoPatches& t) {
   const TransferResult whole = transfer(t.inputs());
   const TransferPlan plan = plan_transfer(t.inputs());
   EXPECT_TRUE(plan_copies_target(plan));
   EXPECT_EQ(plan_inconsistency(plan), "");
-  // Three tiles of consecutive points, then the plan-level points (the copies) alone.
-  std::vector<std::array<double, 8>> parts;
+  std::vector<std::array<double, 12>> parts;
   Index exemplar_points = 0;
   for (const auto& range : tile_ranges(t.E.size(), 3)) {
     const PointSet part = tile_points(t.E, range);
@@ -241,6 +255,7 @@ TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
   const TransferResult copies = transfer_planned(plan, nullptr, &t.target);
   EXPECT_GT(copies.points.size(), 0);  // copies of the kept target samples only
   EXPECT_LT(copies.points.size(), t.target.size());
+  EXPECT_EQ(copies.points.has_colours(), t.E.has_colours());  // the plan says, not the copies' own input
   for (const auto& p : point_set_of(copies)) parts.push_back(p);
   std::sort(parts.begin(), parts.end());
   EXPECT_EQ(parts, point_set_of(whole));  // bit for bit, as sets
@@ -248,6 +263,34 @@ TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
   // Both exemplar patches emitted points, and the thinned samples removed some.
   EXPECT_LT(exemplar_points, 2 * t.E.size());
   EXPECT_GT(exemplar_points, t.E.size());
+}
+
+TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
+  expect_tiles_give_the_whole_transfer(TwoPatches{});
+}
+
+TEST(ApplyPlan, TilesCarryTheExemplarsColoursAndIntensityCopiesTheNeutralOnes) {
+  TwoPatches t;
+  t.E = coloured(t.E);
+  expect_tiles_give_the_whole_transfer(t);
+  const TransferResult whole = transfer(t.inputs());
+  ASSERT_TRUE(whole.points.has_colours());
+  ASSERT_TRUE(whole.points.has_intensity());
+  for (Index i = 0; i < whole.points.size(); ++i) {
+    const Eigen::Matrix<std::uint8_t, 3, 1> c = whole.points.colours().col(i);
+    const float v = whole.points.intensity()(i);
+    if (whole.origin[size_t(i)] == Origin::kTarget) {
+      ASSERT_EQ(c, kCopiedColour) << i;
+      ASSERT_EQ(v, kCopiedIntensity) << i;
+    } else {  // the exemplar point's own: colour and intensity name the same point
+      ASSERT_EQ(c(2), 7) << i;
+      ASSERT_EQ(Index(c(0)) | Index(c(1)) << 8, Index(v)) << i;
+    }
+  }
+  // A tile without the colours the plan's exemplar had is refused.
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet bare(t.E.positions());
+  EXPECT_THROW(apply_plan(plan, &bare, nullptr), InvariantError);
 }
 
 TEST(ApplyPlan, PointsOutsideThePlansScanAreFound) {
