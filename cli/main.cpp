@@ -1,4 +1,5 @@
-// The scanfill command line: the main run (--config), --print-defaults, and the tools info and sample.
+// The scanfill command line: the main run (--config), --print-defaults, the tools info, sample, eval and scan, and
+// plan, apply and split, the run in tiles.
 // Exit codes: 0 success, 1 a run or input error, 2 a usage or config error. Every error is one line on stderr
 // (a config with several problems prints one line per problem).
 #include <tbb/global_control.h>
@@ -20,6 +21,7 @@
 #include "engine/fields.h"
 #include "engine/pipeline.h"
 #include "engine/staging.h"
+#include "engine/tiles.h"
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/input/input.h"
@@ -336,6 +338,90 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& a, CommonFlags& common) {
   return cmd;
 }
 
+// plan, apply and split (DESIGN section 10): the run in tiles, for Dask, a Slurm job array or any batch system.
+struct TileArgs {
+  std::string config, plan, plan_points, input, tile, output, output_dir;
+  std::vector<std::string> overrides;
+  Index tiles = 0;
+};
+
+void add_config_flags(CLI::App* cmd, TileArgs& a) {
+  cmd->add_option("--config", a.config, "the run's YAML config")->check(CLI::ExistingFile);
+  cmd->add_option("--set", a.overrides, "KEY=VALUE: override a config key (repeatable)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+CLI::App* add_plan_command(CLI::App& app, TileArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("plan", "the run up to the labelled, aligned samples, written as a plan file");
+  add_config_flags(cmd, a);
+  cmd->get_option("--config")->required();
+  cmd->add_option("--output", a.plan, "the plan file (default: <output.dir>/scanfill.plan)");
+  cmd->add_option("--plan-points", a.plan_points,
+                  "the plan-level points, the target's copies (.ply; default: plan_points.ply beside the plan)");
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+CLI::App* add_apply_command(CLI::App& app, TileArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("apply", "carries one tile of the exemplar through a plan file");
+  cmd->add_option("--plan", a.plan, "the plan file of scanfill plan")->required();
+  cmd->add_option("--input", a.tile, "the tile: a point file of the exemplar's points")->required();
+  cmd->add_option("--output", a.output, "the tile's output .ply (output.ply's properties)")->required();
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+CLI::App* add_split_command(CLI::App& app, TileArgs& a, CommonFlags& common) {
+  CLI::App* cmd = app.add_subcommand("split", "splits the exemplar (or any point file) into tiles for scanfill apply");
+  add_config_flags(cmd, a);
+  auto* input = cmd->add_option("--input", a.input, "a point file (or procedural:NAME) instead of a config's exemplar");
+  input->excludes(cmd->get_option("--config"));
+  cmd->add_option("--tiles", a.tiles, "number of tiles")->required()->check(number_in(1, 1 << 20));
+  cmd->add_option("--output-dir", a.output_dir, "folder for tile_0000.ply ...")->required();
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+RunConfig config_of(const TileArgs& a, int threads) {
+  RunConfig config = load_config(a.config, a.overrides);
+  if (threads > 0) config.threads = threads;
+  return config;
+}
+
+int run_plan(const TileArgs& a, int threads) {
+  const RunConfig config = config_of(a, threads);
+  const auto limit = limit_threads(config.threads);
+  const PlanPaths paths = plan_paths(config, a.plan, a.plan_points);
+  const PlanOutcome o = make_plan(config, paths);
+  std::cout << "scanfill: plan of " << a.config << ": " << o.patches << " patches, " << o.carried_samples
+            << " carried samples\n  wrote " << paths.plan.string() << " (" << o.plan_bytes << " bytes)\n  wrote "
+            << paths.points.string() << " (" << o.plan_points << " plan-level points: the copies of the "
+            << (config.mode == RunMode::kCompletion ? "template" : "target") << ")" << std::endl;
+  return 0;
+}
+
+int run_apply(const TileArgs& a) {
+  const ApplyOutcome o = apply_tile(a.plan, a.tile, a.output);
+  spdlog::info("{} points of {} -> {} output points in {}", o.tile_points, a.tile, o.output_points, a.output);
+  return 0;
+}
+
+int run_split(const TileArgs& a, int threads) {
+  if (a.config.empty() && a.input.empty()) return fail("split: give --config FILE or --input FILE", 2);
+  PointSet points;
+  if (!a.config.empty()) {
+    points = exemplar_of(config_of(a, threads));
+  } else {
+    const LoadResult loaded = load_input(parse_input(a.input));
+    for (const auto& w : loaded.warnings) spdlog::warn("{}", w);
+    points = loaded.points;
+  }
+  const auto tiles = split_into_tiles(points, a.tiles, a.output_dir);
+  spdlog::info("{} points in {} tiles -> {}", points.size(), tiles.size(), a.output_dir);
+  return 0;
+}
+
 // The main run: the pipeline a config file describes.
 int run_config(const std::string& config_path, const std::vector<std::string>& overrides, int threads) {
   RunConfig config;
@@ -386,6 +472,10 @@ int main(int argc, char** argv) {
   CLI::App* sample_cmd = add_sample_command(app, samp, common);
   CLI::App* eval_cmd = add_eval_command(app, ev, common);
   CLI::App* scan_cmd = add_scan_command(app, sc, common);
+  TileArgs tile;
+  CLI::App* plan_cmd = add_plan_command(app, tile, common);
+  CLI::App* apply_cmd = add_apply_command(app, tile, common);
+  CLI::App* split_cmd = add_split_command(app, tile, common);
   app.require_subcommand(0, 1);
 
   try {
@@ -418,6 +508,9 @@ int main(int argc, char** argv) {
       return with_threads(common.threads, [&] {
         return run_sample(samp.input, samp.output, samp.spacing, samp.count, samp.seed, samp.k);
       });
+    if (plan_cmd->parsed()) return run_plan(tile, common.threads);
+    if (apply_cmd->parsed()) return with_threads(common.threads, [&] { return run_apply(tile); });
+    if (split_cmd->parsed()) return with_threads(common.threads, [&] { return run_split(tile, common.threads); });
     if (config_path.empty() && !overrides.empty()) return fail("--set needs --config FILE", 2);
     if (config_path.empty()) {
       std::cerr << app.help() << std::endl;

@@ -13,7 +13,7 @@ packages=(build-essential cmake ninja-build pkg-config dpkg-dev
   libtbb-dev libeigen3-dev libpcl-dev libflann-dev liblz4-dev libnanoflann-dev libceres-dev libspdlog-dev
   libyaml-cpp-dev liblemon-dev libboost-graph-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
-  pybind11-dev python3-dev python3-pytest python3-numpy python3-open3d)
+  pybind11-dev python3-dev python3-pytest python3-numpy python3-open3d python3-distributed)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -61,11 +61,9 @@ std::array<double, 3> label_colour(int label, int self_label) {
   return rgb;
 }
 
-// output.colour as it applies to this output: auto is the scan's own colours when it has them (the transfer carried
-// them to the output points), by origin otherwise.
+// output.colour as it applies to this output (see resolved_colour).
 ColourChoice colour_choice(const RunConfig& config, const TransferResult& o) {
-  if (config.output_colour != ColourChoice::kAuto) return config.output_colour;
-  return o.points.has_colours() ? ColourChoice::kScan : ColourChoice::kOrigin;
+  return resolved_colour(config.output_colour, o.points.has_colours());
 }
 
 // output.ply's colour of a point: by origin (scan or exemplar grey, synthesised orange, copied blue), or by label
@@ -77,13 +75,10 @@ std::array<double, 3> output_colour(Origin origin, int label, int self_label, bo
   return {60, 120, 225};
 }
 
-// output.ply's points with their RGB as output.colour says: the scan's own colours (already on the points), or by
-// origin or label.
-PointSet coloured_output(const RunConfig& config, const Transferred& t) {
-  const TransferResult& o = t.output;
-  const ColourChoice choice = colour_choice(config, o);
+// output.ply's points with their RGB as `choice` (resolved) says: the scan's own colours (already on the points), or
+// by origin or label.
+PointSet coloured_output(const TransferResult& o, ColourChoice choice, int self_label) {
   if (choice == ColourChoice::kScan) return o.points;  // a scan without colours was refused at load
-  const int self_label = t.aligned->synthesized->analogy->labels.self_label;
   Matrix3Xu8 rgb(3, o.points.size());
   for (size_t i = 0; i < o.origin.size(); ++i) {
     const auto c = output_colour(o.origin[i], o.label[i], self_label, choice == ColourChoice::kLabel);
@@ -151,17 +146,12 @@ void write_correspondence(const RunState& state, const Correspondence& c, RunOut
 // output.ply; the report's output, synthesis, correspondence and align.
 void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
   const TransferResult& o = t.output;
-  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
   Index by_origin[3] = {0, 0, 0};
-  for (size_t i = 0; i < o.origin.size(); ++i) {
-    origin[i] = double(int(o.origin[i]));
-    ++by_origin[int(o.origin[i])];
-  }
+  for (const Origin origin : o.origin) ++by_origin[int(origin)];
   const std::filesystem::path out = state.write_dir / "output.ply";
-  write_ply(out, coloured_output(state.config, t),
-            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
-  outcome.outputs.push_back(out);
   const ColourChoice colour = colour_choice(state.config, o);
+  write_output_ply(out, o, colour, t.aligned->synthesized->analogy->labels.self_label);
+  outcome.outputs.push_back(out);
   report["output"] = {{"points", o.points.size()},
                       {"faces", o.points.faces().cols()},
                       {"exemplar_points", by_origin[0]},
@@ -286,7 +276,8 @@ void write_preview(const RunState& state, RunOutcome& outcome) {
     const double spacing = panels.back().spacing * std::sqrt(double(panels.back().points->size()) /
                                                              double(std::max<Index>(o.points.size(), 1)));
     PreviewPanel out{&o.points, {}, spacing};
-    const PointSet coloured = coloured_output(config, *t);  // as output.ply
+    const PointSet coloured =  // as output.ply
+        coloured_output(o, colour_choice(config, o), t->aligned->synthesized->analogy->labels.self_label);
     const Matrix3Xu8& c = coloured.colours();
     for (Index i = 0; i < c.cols(); ++i) out.colours.push_back({c(0, i), c(1, i), c(2, i)});
     panels.push_back(std::move(out));
@@ -418,6 +409,18 @@ std::string summary(const RunConfig& config, const nlohmann::json& report, bool 
 }
 
 }  // namespace
+
+ColourChoice resolved_colour(ColourChoice configured, bool carried_colours) {
+  if (configured != ColourChoice::kAuto) return configured;
+  return carried_colours ? ColourChoice::kScan : ColourChoice::kOrigin;
+}
+
+void write_output_ply(const std::filesystem::path& path, const TransferResult& o, ColourChoice colour, int self_label) {
+  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
+  for (size_t i = 0; i < o.origin.size(); ++i) origin[i] = double(int(o.origin[i]));
+  write_ply(path, coloured_output(o, colour, self_label),
+            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
+}
 
 RunOutcome write_outputs(RunState& state, Staging& staging) {
   const RunConfig& config = state.config;

@@ -4,12 +4,24 @@
 // output folder and moved in together (engine/staging.h).
 #pragma once
 
+#include <filesystem>
+
 #include "engine/pipeline.h"
 #include "engine/stages.h"
 
 namespace scanfill {
 
 class Staging;
+
+// output.colour as it applies to an output: auto is the scan's own colours when the transfer carried them (the scan,
+// or exemplar, has colours), by origin otherwise; the other choices as they are.
+ColourChoice resolved_colour(ColourChoice configured, bool carried_colours);
+
+// Writes `output` as output.ply: positions and normals, per point its origin and label, RGB as `colour` (resolved, not
+// auto) says, the scan's own colours as carried or by origin or label, and the intensity when carried. `scanfill
+// plan` and `scanfill apply` write their points with it, so that they are output.ply's own.
+void write_output_ply(const std::filesystem::path& path, const TransferResult& output, ColourChoice colour,
+                      int self_label);
 
 // Writes into the staging folder (state.write_dir), then commits it: the files appear in output.dir together.
 RunOutcome write_outputs(RunState& state, Staging& staging);

@@ -128,19 +128,24 @@ flow::sender<LabelledPtr>& add_analogy(Wiring& w, const Branch& source, const Br
   return add_analogy_chain(w, symmetry);
 }
 
-// synthesized -> align -> transfer (-> surface, when output.surface asks for one); returns transfer.
-flow::sender<TransferredPtr>& add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize,
+// synthesized -> align -> plan -> transfer (-> surface, when output.surface asks for one); returns transfer, or
+// nullptr for a plan run, which stops at the plan.
+flow::sender<TransferredPtr>* add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize,
                                                  bool to_scan_frame) {
   auto& align = w.node<SynthesizedPtr, AlignedPtr>([&w](const SynthesizedPtr& in) { return align_stage(w.state, in); });
-  auto& transfer = w.node<AlignedPtr, TransferredPtr>(
-      [&w, to_scan_frame](const AlignedPtr& in) { return transfer_stage(w.state, in, to_scan_frame); });
+  auto& plan = w.node<AlignedPtr, PlannedPtr>(
+      [&w, to_scan_frame](const AlignedPtr& in) { return plan_stage(w.state, in, to_scan_frame); });
   flow::make_edge(synthesize, align);
-  flow::make_edge(align, transfer);
-  if (!makes_surface(w.state.config)) return transfer;
+  flow::make_edge(align, plan);
+  if (w.state.plan_only) return nullptr;
+  auto& transfer =
+      w.node<PlannedPtr, TransferredPtr>([&w](const PlannedPtr& in) { return transfer_stage(w.state, in); });
+  flow::make_edge(plan, transfer);
+  if (!makes_surface(w.state.config)) return &transfer;
   auto& surface =
       w.node<TransferredPtr, SurfacedPtr>([&w](const TransferredPtr& in) { return surface_stage(w.state, in); });
   flow::make_edge(transfer, surface);
-  return transfer;
+  return &transfer;
 }
 
 // correspond(scan, template) -> cover: S = the template samples the scan covers -> symmetry(S, template) -> vote ->
@@ -164,7 +169,7 @@ void build_completion(Wiring& w) {
 
 // correspond(exemplar, source) and vote(source, target) -> ... -> label have no dependency on each other and run in
 // parallel; synthesize joins them.
-flow::sender<TransferredPtr>& add_style_transfer(Wiring& w, const Branch& target, const Branch& source,
+flow::sender<TransferredPtr>* add_style_transfer(Wiring& w, const Branch& target, const Branch& source,
                                                  const Branch& exemplar) {
   auto& synthesize = w.node<std::tuple<CorrespondencePtr, LabelledPtr>, SynthesizedPtr>(
       [&w](const auto& in) { return synthesize_stage(w.state, std::get<0>(in), std::get<1>(in), nullptr); });
@@ -183,10 +188,11 @@ void build_transfer(Wiring& w) {
 void build_curves(Wiring& w) {
   const Branch target = add_curve_branch(w, Role::kTarget);
   const Branch source = add_curve_branch(w, Role::kSource, &target);
-  auto& transfer = add_style_transfer(w, target, source, add_curve_branch(w, Role::kExemplar, &target));
+  auto* transfer = add_style_transfer(w, target, source, add_curve_branch(w, Role::kExemplar, &target));
+  if (!transfer) return;  // a plan run
   auto& draw =
       w.node<TransferredPtr, DrawnPtr>([&w](const TransferredPtr& in) { return draw_curves_stage(w.state, in); });
-  flow::make_edge(transfer, draw);
+  flow::make_edge(*transfer, draw);
 }
 
 // vote(source, target) -> modes -> support -> label: the labelled target is the output.
@@ -204,12 +210,8 @@ double peak_rss_mb() {
   return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-RunOutcome run(const RunConfig& config) {
-  // Refused before any work: an output that would overwrite an input, an output folder that cannot be written.
-  check_outputs_spare_inputs(config);
-  Staging staging(config.output_dir);
-  RunState state(config);
-  state.write_dir = staging.folder();
+void run_graph(RunState& state) {
+  const RunConfig& config = state.config;
   flow::graph g;
   Wiring w(g, state);
   switch (config.mode) {
@@ -227,6 +229,15 @@ RunOutcome run(const RunConfig& config) {
       break;
   }
   w.run();
+}
+
+RunOutcome run(const RunConfig& config) {
+  // Refused before any work: an output that would overwrite an input, an output folder that cannot be written.
+  check_outputs_spare_inputs(config);
+  Staging staging(config.output_dir);
+  RunState state(config);
+  state.write_dir = staging.folder();
+  run_graph(state);
   return write_outputs(state, staging);
 }
 

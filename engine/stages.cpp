@@ -33,6 +33,11 @@ void RunState::keep(LabelledPtr a) {
   analogy_ = std::move(a);
 }
 
+void RunState::keep(PlannedPtr p) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  plan_ = std::move(p);
+}
+
 void RunState::keep(TransferredPtr t) {
   std::lock_guard<std::mutex> lock(mutex_);
   output_ = std::move(t);
@@ -70,14 +75,22 @@ auto run_node(RunState& state, const std::string& name, const std::string& subje
 
 }  // namespace
 
+std::string input_subject(const Input& input) {
+  return input_name(input.spec) +
+         (input.fragments.empty() ? "" : " and " + std::to_string(input.fragments.size()) + " more fragments");
+}
+
+LoadResult load_as_run(const RunConfig& config, const Input& input) {
+  LoadResult load = load_fragments(all_specs(input), config.load);
+  if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), config.virtual_scan, input_subject(input));
+  return load;
+}
+
 LoadedPtr load_stage(RunState& state, const Input& input) {
   const std::string role = role_name(input.role), name = "load:" + role;
-  const std::string subject =
-      input_name(input.spec) +
-      (input.fragments.empty() ? "" : " and " + std::to_string(input.fragments.size()) + " more fragments");
+  const std::string subject = input_subject(input);
   return run_node(state, name, subject, [&](const ProgressFn&) {
-    LoadResult load = load_fragments(all_specs(input), state.config.load);
-    if (input.role == Role::kScan) load = virtual_scan_input(std::move(load), state.config.virtual_scan, subject);
+    LoadResult load = load_as_run(state.config, input);
     // output.colour: scan asks for colours the output's points can only take from this input.
     if (state.config.output_colour == ColourChoice::kScan &&
         (input.role == Role::kScan || input.role == Role::kExemplar) && !load.points.has_colours())
@@ -356,8 +369,8 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in) {
   });
 }
 
-TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame) {
-  return run_node(state, "transfer", "", [&](const ProgressFn& progress) {
+PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame) {
+  return run_node(state, "plan", "", [&](const ProgressFn&) {
     const Synthesized& syn = *in->synthesized;
     const Correspondence& c = *syn.correspondence;
     const Featured& target = *syn.analogy->votes().target();
@@ -369,7 +382,20 @@ TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_sca
                                 syn.synthesis,
                                 in->alignment,
                                 to_scan_frame ? c.map.rigid.inverse() : Similarity{}};
-    auto out = std::make_shared<Transferred>(Transferred{in, transfer(inputs, progress)});
+    auto out = std::make_shared<Planned>(Planned{in, plan_transfer(inputs)});
+    node_logger("plan")->info("{} patches, {} carried samples", out->plan.patches.size(), out->plan.patch.size());
+    state.keep(out);
+    return PlannedPtr(std::move(out));
+  });
+}
+
+TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
+  return run_node(state, "transfer", "", [&](const ProgressFn& progress) {
+    const Synthesized& syn = *in->aligned->synthesized;
+    const PointSet& exemplar = syn.correspondence->exemplar->sampled->loaded->load.points;
+    const PointSet& target = syn.analogy->votes().target()->sampled->loaded->load.points;
+    auto out = std::make_shared<Transferred>(
+        Transferred{in->aligned, transfer_planned(in->plan, &exemplar, &target, progress)});
     node_logger("transfer")
         ->info("{} output points, {} faces", out->output.points.size(), out->output.points.faces().cols());
     state.keep(out);

@@ -102,6 +102,12 @@ struct Aligned {
   AlignResult alignment;
 };
 using AlignedPtr = std::shared_ptr<const Aligned>;
+// The transfer's plan (DESIGN section 10): what `scanfill plan` writes and the transfer node carries the points by.
+struct Planned {
+  AlignedPtr aligned;
+  TransferPlan plan;
+};
+using PlannedPtr = std::shared_ptr<const Planned>;
 struct Transferred {
   AlignedPtr aligned;
   TransferResult output;
@@ -129,11 +135,13 @@ class RunState {
   explicit RunState(const RunConfig& config) : config(config), inputs_(config.inputs.size()) {}
   const RunConfig& config;
   std::filesystem::path write_dir;  // the staging folder the writer writes into (engine/staging.h)
+  bool plan_only = false;           // `scanfill plan`: the graph stops at the plan node
 
   void record(const std::string& name, double seconds);
   void warn(const std::string& node, const std::string& what);
   void keep(FeaturedPtr f);
   void keep(LabelledPtr a);
+  void keep(PlannedPtr p);
   void keep(TransferredPtr t);
   void keep(SurfacedPtr s);
   void keep(DrawnPtr d);
@@ -143,6 +151,7 @@ class RunState {
   const std::vector<std::string>& warnings() const { return warnings_; }
   const std::vector<FeaturedPtr>& inputs() const { return inputs_; }  // in config.inputs' order
   const LabelledPtr& analogy() const { return analogy_; }
+  const PlannedPtr& plan() const { return plan_; }
   const TransferredPtr& output() const { return output_; }
   const SurfacedPtr& surface() const { return surface_; }  // null unless output.surface made one
   const DrawnPtr& drawing() const { return drawing_; }     // mode curves only
@@ -153,10 +162,16 @@ class RunState {
   std::vector<std::string> warnings_;
   std::vector<FeaturedPtr> inputs_;
   LabelledPtr analogy_;
+  PlannedPtr plan_;
   TransferredPtr output_;
   SurfacedPtr surface_;
   DrawnPtr drawing_;
 };
+
+// An input as the run loads it: its fragments merged; completion's scan through the virtual scanner when configured.
+LoadResult load_as_run(const RunConfig& config, const Input& input);
+// The input's name for messages: its spec, and how many fragments come with it.
+std::string input_subject(const Input& input);
 
 // The node bodies. `reference`: the input whose spacing alpha this one is sampled at (nullptr: as configured).
 LoadedPtr load_stage(RunState& state, const Input& input);
@@ -177,9 +192,13 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                                 const CoveragePtr& coverage);
 AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
 // `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
-TransferredPtr transfer_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
+PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
+TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in);
 SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in);
 // Mode curves: the output points ordered into polylines along the target's curves.
 DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);
+
+// Builds and runs the graph of state.config.mode (pipeline.cpp); with state.plan_only it ends at the plan node.
+void run_graph(RunState& state);
 
 }  // namespace scanfill

@@ -158,8 +158,8 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
       if (!(len > 1e-12) || !std::isfinite(len)) {
         ++bad_normals;
         n.setZero();
-      } else {
-        n /= len;
+      } else if (std::abs(len - 1) > 1e-12) {
+        n /= len;  // normals unit to rounding are kept as stored: a tile scanfill wrote reads back bit for bit
       }
       normals.col(j) = n;
     }

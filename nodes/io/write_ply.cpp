@@ -56,7 +56,11 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& con
   write_atomic(path, [&](std::ofstream& out) { out.write(content.data(), std::streamsize(content.size())); });
 }
 
-void write_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<PlyProperty>& extra) {
+void write_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<PlyProperty>& extra,
+               PlyReal real) {
+  const bool exact = real == PlyReal::kFloat64;
+  const std::string r = exact ? "property double " : "property float ";
+  const auto put_real = [exact](std::string& buf, double v) { exact ? put(buf, v) : put(buf, float(v)); };
   points.check();
   const Index n = points.size();
   for (const PlyProperty& p : extra) {
@@ -69,10 +73,10 @@ void write_ply(const std::filesystem::path& path, const PointSet& points, const 
   }
   std::ostringstream header;
   header << "ply\nformat binary_little_endian 1.0\ncomment written by scanfill\n";
-  header << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n";
-  if (points.has_normals()) header << "property float nx\nproperty float ny\nproperty float nz\n";
-  if (points.has_curvatures()) header << "property float k1\nproperty float k2\n";
-  if (points.has_directions()) header << "property float d1x\nproperty float d1y\nproperty float d1z\n";
+  header << "element vertex " << n << "\n" << r << "x\n" << r << "y\n" << r << "z\n";
+  if (points.has_normals()) header << r << "nx\n" << r << "ny\n" << r << "nz\n";
+  if (points.has_curvatures()) header << r << "k1\n" << r << "k2\n";
+  if (points.has_directions()) header << r << "d1x\n" << r << "d1y\n" << r << "d1z\n";
   for (const PlyProperty& p : extra) {
     const char* type = p.type == PlyProperty::Type::kUint8   ? "uchar"
                        : p.type == PlyProperty::Type::kInt32 ? "int"
@@ -93,13 +97,13 @@ void write_ply(const std::filesystem::path& path, const PointSet& points, const 
     for (Index start = 0; start < n; start += kChunk) {
       buf.clear();
       for (Index i = start; i < std::min(n, start + kChunk); ++i) {
-        for (int k = 0; k < 3; ++k) put(buf, float(points.positions()(k, i)));
+        for (int k = 0; k < 3; ++k) put_real(buf, points.positions()(k, i));
         if (points.has_normals())
-          for (int k = 0; k < 3; ++k) put(buf, float(points.normals()(k, i)));
+          for (int k = 0; k < 3; ++k) put_real(buf, points.normals()(k, i));
         if (points.has_curvatures())
-          for (int k = 0; k < 2; ++k) put(buf, float(points.curvatures()(k, i)));
+          for (int k = 0; k < 2; ++k) put_real(buf, points.curvatures()(k, i));
         if (points.has_directions())
-          for (int k = 0; k < 3; ++k) put(buf, float(points.directions()(k, i)));
+          for (int k = 0; k < 3; ++k) put_real(buf, points.directions()(k, i));
         for (const PlyProperty& p : extra) {
           const double v = p.values[size_t(i)];
           switch (p.type) {

@@ -63,8 +63,11 @@ Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
   c.normals.resize(3, m);
   c.face.resize(m);
   c.bary.resize(3, m);
-  tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), [&](const tbb::blocked_range<Index>& r) {
-    // One generator per fixed block, seeded from (seed, block): the same candidates on any thread count.
+  // One generator per chunk, seeded from (seed, chunk start / kBlock). The simple partitioner halves the range down to
+  // kBlock whatever the thread count and the work stealing, so the chunks, and the candidates, depend on m alone; the
+  // default (auto) partitioner stops halving where stealing says, which made large runs (the copy surface of a
+  // 10^7-point scan) differ from run to run.
+  const auto fill = [&](const tbb::blocked_range<Index>& r) {
     std::mt19937_64 rng(splitmix(seed ^ splitmix(std::uint64_t(r.begin() / kBlock))));
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     for (Index i = r.begin(); i != r.end(); ++i) {
@@ -84,7 +87,8 @@ Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
       }
       c.normals.col(i) = n;
     }
-  });
+  };
+  tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), fill, tbb::simple_partitioner());
   // Random candidates in Morton order: neighbour queries in index order then stay in cache (3-5x faster at 10^5).
   const std::vector<Index> order = morton_order(c.positions);
   Candidates sorted;

@@ -7,6 +7,89 @@
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
+namespace {
+
+// Nearest sample of every point.
+std::vector<std::int32_t> nearest_samples(const PointSet& full, const Eigen::Matrix3Xd& samples) {
+  KdTree tree;
+  tree.build(samples);
+  std::vector<std::int32_t> nearest;
+  std::vector<double> d2;
+  nearest_each(tree, full.positions(), nearest, d2);
+  return nearest;
+}
+
+// Per patch and base sample: the carried sample it became (index into plan.patch), or -1.
+std::vector<std::vector<std::int32_t>> carried_of(const TransferPlan& plan) {
+  std::vector<std::vector<std::int32_t>> made(plan.patches.size());
+  for (size_t p = 0; p < made.size(); ++p)
+    made[p].assign(size_t(plan.patches[p].from_target ? plan.target_samples.cols() : plan.exemplar_samples.cols()), -1);
+  for (size_t k = 0; k < plan.patch.size(); ++k) made[size_t(plan.patch[k])][size_t(plan.base[k])] = std::int32_t(k);
+  return made;
+}
+
+// The output being filled, patch by patch.
+struct Filling {
+  Eigen::Matrix3Xd P, N;
+  Matrix3Xu8 C;       // 3 by 0 unless the plan has colours
+  Eigen::VectorXf I;  // empty unless the plan has intensity
+  std::vector<Origin> origin;
+  std::vector<std::int32_t> label;
+  std::vector<Eigen::Vector3i> tris;
+  Index next = 0;
+};
+
+// The points of `full` patch p emits (`e`: per point, the carried sample or -1), and its triangles.
+void fill_patch(const TransferPlan& plan, size_t p, const PointSet& full, const std::vector<std::int32_t>& e,
+                Filling& out) {
+  const PlanPatch& patch = plan.patches[p];
+  std::vector<std::int32_t> slot(e.size(), -1);
+  for (size_t i = 0; i < e.size(); ++i)
+    if (e[i] >= 0) slot[i] = std::int32_t(out.next++);
+  const Similarity& whole = patch.whole;
+  tbb::parallel_for(size_t(0), e.size(), [&](size_t i) {
+    const auto k = e[i];
+    if (k < 0) return;
+    const Index o = slot[i];
+    // The offset moves along the sample's normal (both in the output frame).
+    out.P.col(o) = whole.apply(full.positions().col(Index(i))) + plan.shift[size_t(k)] * plan.normal.col(k);
+    out.N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(Index(i))) : plan.normal.col(k);
+    if (plan.colours) out.C.col(o) = patch.from_target ? kCopiedColour : full.colours().col(Index(i));
+    if (plan.intensity) out.I(o) = patch.from_target ? kCopiedIntensity : full.intensity()(Index(i));
+    out.origin[size_t(o)] = patch.origin;
+    out.label[size_t(o)] = patch.origin == Origin::kExemplar ? -1 : patch.label;
+  });
+  if (plan.mesh_output && full.has_faces())
+    for (Index f = 0; f < full.faces().cols(); ++f) {
+      const Eigen::Vector3i c = full.faces().col(f);
+      const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
+      if (m.minCoeff() >= 0) out.tris.push_back(m);
+    }
+}
+
+TransferResult result_of(const TransferPlan& plan, Filling&& f) {
+  TransferResult out;
+  out.points = PointSet(std::move(f.P));
+  out.points.set_normals(std::move(f.N));
+  if (plan.colours) out.points.set_colours(std::move(f.C));
+  if (plan.intensity) out.points.set_intensity(std::move(f.I));
+  out.origin = std::move(f.origin);
+  out.label = std::move(f.label);
+  if (!f.tris.empty()) {
+    Matrix3Xi F(3, Index(f.tris.size()));
+    for (size_t t = 0; t < f.tris.size(); ++t) F.col(Index(t)) = f.tris[t];
+    out.points.set_faces(std::move(F));
+  }
+  return out;
+}
+
+bool uses(const TransferPlan& plan, bool from_target) {
+  for (const auto& p : plan.patches)
+    if (p.from_target == from_target) return true;
+  return false;
+}
+
+}  // namespace
 
 PointSet copy_surface(const PointSet& target, Index exemplar_points, Index exemplar_samples, Index target_samples) {
   if (!target.has_faces() || exemplar_samples <= 0) return target;
@@ -16,48 +99,28 @@ PointSet copy_surface(const PointSet& target, Index exemplar_points, Index exemp
   return random_surface_points(target, wanted, 1);
 }
 
-TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
-  const Synthesis& s = in.synthesis;
-  const Index ns = s.points.size();
-  if (in.alignment.offset.size() != size_t(ns) || in.alignment.keep.size() != size_t(ns))
-    throw InvariantError("transfer: the alignment does not match the synthesis");
-  const bool faces = in.exemplar.has_faces();
-  // Copies come from the target's surface at the exemplar's density, not from a low-poly template's few vertices.
-  bool need_exemplar = false, need_target = false;
-  for (const auto& p : s.patches) (p.from_target ? need_target : need_exemplar) = true;
-  const PointSet target =
-      need_target ? copy_surface(in.target, in.exemplar.size(), in.exemplar_samples.size(), in.target_samples.size())
-                  : in.target;
+bool plan_copies_target(const TransferPlan& plan) {
+  return uses(plan, true);
+}
 
-  // Per patch and base sample: the synthesis point it became (or -1).
-  const size_t np = s.patches.size();
-  std::vector<std::vector<std::int32_t>> made(np);
-  for (size_t p = 0; p < np; ++p)
-    made[p].assign(size_t(s.patches[p].from_target ? in.target_samples.size() : in.exemplar_samples.size()), -1);
-  for (Index j = 0; j < ns; ++j)
-    if (in.alignment.keep[size_t(j)]) made[size_t(s.patch[size_t(j)])][size_t(s.base[size_t(j)])] = std::int32_t(j);
-
-  // Nearest sample of every original point, per input (shared by that input's patches).
-  const auto nearest_samples = [](const PointSet& full, const PointSet& samples) {
-    KdTree tree;
-    tree.build(samples.positions());
-    std::vector<std::int32_t> nearest;
-    std::vector<double> d2;
-    nearest_each(tree, full.positions(), nearest, d2);
-    return nearest;
-  };
-  const std::vector<std::int32_t> exemplar_nearest =
-      need_exemplar ? nearest_samples(in.exemplar, in.exemplar_samples) : std::vector<std::int32_t>{};
+TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
+                          const ProgressFn& progress) {
+  if (!exemplar || !uses(plan, false)) exemplar = nullptr;
+  if (!copies || !uses(plan, true)) copies = nullptr;
+  if (exemplar && ((plan.colours && !exemplar->has_colours()) || (plan.intensity && !exemplar->has_intensity())))
+    throw InvariantError("apply_plan: the plan's exemplar had colours or intensity that these points lack");
+  const auto made = carried_of(plan);
+  const auto exemplar_nearest = exemplar ? nearest_samples(*exemplar, plan.exemplar_samples) : std::vector<int>{};
   report(progress, 0.2);
-  const std::vector<std::int32_t> target_nearest =
-      need_target ? nearest_samples(target, in.target_samples) : std::vector<std::int32_t>{};
+  const auto target_nearest = copies ? nearest_samples(*copies, plan.target_samples) : std::vector<int>{};
   report(progress, 0.4);
-
   // Count, then fill, patch by patch.
-  std::vector<std::vector<std::int32_t>> emitted(np);  // per patch: per base point, the synthesis point or -1
+  const size_t np = plan.patches.size();
+  std::vector<std::vector<std::int32_t>> emitted(np);  // per patch: per base point, the carried sample or -1
   Index total = 0;
   for (size_t p = 0; p < np; ++p) {
-    const bool t = s.patches[p].from_target;
+    const bool t = plan.patches[p].from_target;
+    if (!(t ? copies : exemplar)) continue;
     const auto& nearest = t ? target_nearest : exemplar_nearest;
     auto& e = emitted[p];
     e.resize(nearest.size());
@@ -66,59 +129,33 @@ TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
       total += e[i] >= 0;
     }
   }
-  TransferResult out;
-  Eigen::Matrix3Xd P(3, total), N(3, total);
-  const bool colours = in.exemplar.has_colours(), intensity = in.exemplar.has_intensity();
-  Matrix3Xu8 C(3, colours ? total : 0);
-  Eigen::VectorXf I(intensity ? total : 0);
-  out.origin.resize(size_t(total));
-  out.label.resize(size_t(total));
-  std::vector<Eigen::Vector3i> tris;
-  const Similarity& W = in.working_to_output;
-  Index base = 0;
+  Filling out{Eigen::Matrix3Xd(3, total),
+              Eigen::Matrix3Xd(3, total),
+              Matrix3Xu8(3, plan.colours ? total : 0),
+              Eigen::VectorXf(plan.intensity ? total : 0),
+              std::vector<Origin>(size_t(total)),
+              std::vector<std::int32_t>(size_t(total)),
+              {},
+              0};
   for (size_t p = 0; p < np; ++p) {
-    const Patch& patch = s.patches[p];
-    const PointSet& full = patch.from_target ? target : in.exemplar;
-    const Similarity to_working = patch.from_target ? Similarity{} : in.exemplar_to_working;
-    const Similarity whole = W.compose(patch.transform.compose(to_working));
-    const auto& e = emitted[p];
-    std::vector<std::int32_t> slot(e.size(), -1);
-    Index next = base;
-    for (size_t i = 0; i < e.size(); ++i)
-      if (e[i] >= 0) slot[i] = std::int32_t(next++);
-    tbb::parallel_for(size_t(0), e.size(), [&](size_t i) {
-      const auto j = e[i];
-      if (j < 0) return;
-      const Index o = slot[i];
-      const Eigen::Vector3d nj = s.points.normals().col(j);
-      // The offset moves along the sample's (working-frame) normal, mapped to the output frame.
-      P.col(o) =
-          whole.apply(full.positions().col(Index(i))) + in.alignment.offset[size_t(j)] * W.scale * W.apply_normal(nj);
-      N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(Index(i))) : W.apply_normal(nj);
-      if (colours) C.col(o) = patch.from_target ? kCopiedColour : in.exemplar.colours().col(Index(i));
-      if (intensity) I(o) = patch.from_target ? kCopiedIntensity : in.exemplar.intensity()(Index(i));
-      out.origin[size_t(o)] = patch.origin;
-      out.label[size_t(o)] = patch.origin == Origin::kExemplar ? -1 : patch.label;
-    });
-    if (faces && full.has_faces())
-      for (Index f = 0; f < full.faces().cols(); ++f) {
-        const Eigen::Vector3i c = full.faces().col(f);
-        const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
-        if (m.minCoeff() >= 0) tris.push_back(m);
-      }
-    base = next;
+    const PointSet* full = plan.patches[p].from_target ? copies : exemplar;
+    if (full) fill_patch(plan, p, *full, emitted[p], out);
     report(progress, 0.4 + 0.6 * double(p + 1) / double(np));
   }
-  out.points = PointSet(std::move(P));
-  out.points.set_normals(std::move(N));
-  if (colours) out.points.set_colours(std::move(C));
-  if (intensity) out.points.set_intensity(std::move(I));
-  if (!tris.empty()) {
-    Matrix3Xi F(3, Index(tris.size()));
-    for (size_t f = 0; f < tris.size(); ++f) F.col(Index(f)) = tris[f];
-    out.points.set_faces(std::move(F));
-  }
-  return out;
+  return result_of(plan, std::move(out));
+}
+
+TransferResult transfer_planned(const TransferPlan& plan, const PointSet* exemplar, const PointSet* target,
+                                const ProgressFn& progress) {
+  if (!target || !plan_copies_target(plan)) return apply_plan(plan, exemplar, nullptr, progress);
+  // Copies come from the target's surface at the exemplar's density, not from a low-poly template's few vertices.
+  const PointSet copies =
+      copy_surface(*target, plan.exemplar_points, plan.exemplar_samples.cols(), plan.target_samples.cols());
+  return apply_plan(plan, exemplar, &copies, progress);
+}
+
+TransferResult transfer(const TransferInputs& in, const ProgressFn& progress) {
+  return transfer_planned(plan_transfer(in), &in.exemplar, &in.target, progress);
 }
 
 }  // namespace scanfill

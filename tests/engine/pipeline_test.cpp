@@ -50,7 +50,7 @@ TEST(Pipeline, RunsEveryBranchAndWritesSamplesAndReport) {
   for (const auto& n : report["nodes"]) names.insert(n["name"].get<std::string>());
   for (const char* n : {"load:scan", "sample:scan", "features:scan", "load:template", "sample:template",
                         "features:template", "correspond", "cover", "vote", "modes", "support", "label", "synthesize",
-                        "align", "transfer", "surface", "write"})
+                        "align", "plan", "transfer", "surface", "write"})
     EXPECT_TRUE(names.count(n)) << n;
   // output.ply as DESIGN section 5 names it: x y z nx ny nz origin label, then the colour viewers show (issue 14).
   const std::string ply = test::read_bytes(dir / "out" / "output.ply");

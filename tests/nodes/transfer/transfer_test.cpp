@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 
 #include "nodes/core/errors.h"
 
@@ -186,6 +188,141 @@ TEST(Transfer, AnAlignmentOfAnotherSynthesisIsRefused) {
   AlignResult al = no_alignment(s);
   al.keep.pop_back();
   EXPECT_THROW(transfer({E, samples, samples, samples, Similarity{}, s, al, Similarity{}}), InvariantError);
+}
+
+// A two-patch transfer with thinned samples and offsets, its exemplar a cloud (as tiles are) and a target to copy.
+struct TwoPatches {
+  PointSet E = cloud(grid_mesh(20, 1.0).positions());
+  PointSet samples = cloud(grid_mesh(10, 1.0, Eigen::Vector3d(0.013, 0.007, 0)).positions());
+  PointSet target = cloud(grid_mesh(8, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  PointSet t_samples = cloud(grid_mesh(4, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
+  Synthesis s = synthesis_of({{2, Origin::kSynthesized, false, kQ},
+                              {-1, Origin::kExemplar, false, Similarity{}},
+                              {5, Origin::kTarget, true, kX}},
+                             {in_working_frame(samples, kX), in_working_frame(samples, kX), t_samples});
+  AlignResult al = thinned(s);
+  TransferInputs inputs() const { return {E, samples, target, t_samples, kX, s, al, kW}; }
+  static AlignResult thinned(const Synthesis& s) {
+    AlignResult a = no_alignment(s);
+    for (size_t j = 0; j < a.keep.size(); j += 4) a.keep[j] = 0;
+    for (size_t j = 0; j < a.offset.size(); ++j) a.offset[j] = 0.01 * double(j % 5);
+    return a;
+  }
+};
+
+// The exemplar of TwoPatches with a colour and an intensity that name each point (its index).
+PointSet coloured(PointSet points) {
+  Matrix3Xu8 c(3, points.size());
+  Eigen::VectorXf v(points.size());
+  for (Index i = 0; i < points.size(); ++i) {
+    c.col(i) << std::uint8_t(i & 255), std::uint8_t(i >> 8 & 255), 7;
+    v(i) = float(i) + 0.5f;
+  }
+  points.set_colours(std::move(c));
+  points.set_intensity(std::move(v));
+  return points;
+}
+
+// The points of a result as sortable tuples: position, normal, origin, label, colour and intensity (-1 when absent).
+std::vector<std::array<double, 12>> point_set_of(const TransferResult& r) {
+  std::vector<std::array<double, 12>> out;
+  const PointSet& q = r.points;
+  for (Index i = 0; i < q.size(); ++i) {
+    const auto p = q.positions().col(i), n = q.normals().col(i);
+    const auto c = [&](int k) { return q.has_colours() ? double(q.colours()(k, i)) : -1.0; };
+    out.push_back({p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), double(int(r.origin[size_t(i)])),
+                   double(r.label[size_t(i)]), c(0), c(1), c(2), q.has_intensity() ? double(q.intensity()(i)) : -1.0});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Three tiles of consecutive points, then the plan-level points (the copies) alone, give the whole transfer.
+void expect_tiles_give_the_whole_transfer(const TwoPatches& t) {
+  const TransferResult whole = transfer(t.inputs());
+  const TransferPlan plan = plan_transfer(t.inputs());
+  EXPECT_TRUE(plan_copies_target(plan));
+  EXPECT_EQ(plan_inconsistency(plan), "");
+  std::vector<std::array<double, 12>> parts;
+  Index exemplar_points = 0;
+  for (const auto& range : tile_ranges(t.E.size(), 3)) {
+    const PointSet part = tile_points(t.E, range);
+    EXPECT_EQ(part.size(), range.second - range.first);
+    const TransferResult tile = apply_plan(plan, &part, nullptr);
+    exemplar_points += tile.points.size();
+    for (const auto& p : point_set_of(tile)) parts.push_back(p);
+  }
+  const TransferResult copies = transfer_planned(plan, nullptr, &t.target);
+  EXPECT_GT(copies.points.size(), 0);  // copies of the kept target samples only
+  EXPECT_LT(copies.points.size(), t.target.size());
+  EXPECT_EQ(copies.points.has_colours(), t.E.has_colours());  // the plan says, not the copies' own input
+  for (const auto& p : point_set_of(copies)) parts.push_back(p);
+  std::sort(parts.begin(), parts.end());
+  EXPECT_EQ(parts, point_set_of(whole));  // bit for bit, as sets
+  EXPECT_EQ(exemplar_points + copies.points.size(), whole.points.size());
+  // Both exemplar patches emitted points, and the thinned samples removed some.
+  EXPECT_LT(exemplar_points, 2 * t.E.size());
+  EXPECT_GT(exemplar_points, t.E.size());
+}
+
+TEST(ApplyPlan, TilesOfTheExemplarAndTheCopiesGiveTheWholeTransferExactly) {
+  expect_tiles_give_the_whole_transfer(TwoPatches{});
+}
+
+TEST(ApplyPlan, TilesCarryTheExemplarsColoursAndIntensityCopiesTheNeutralOnes) {
+  TwoPatches t;
+  t.E = coloured(t.E);
+  expect_tiles_give_the_whole_transfer(t);
+  const TransferResult whole = transfer(t.inputs());
+  ASSERT_TRUE(whole.points.has_colours());
+  ASSERT_TRUE(whole.points.has_intensity());
+  for (Index i = 0; i < whole.points.size(); ++i) {
+    const Eigen::Matrix<std::uint8_t, 3, 1> c = whole.points.colours().col(i);
+    const float v = whole.points.intensity()(i);
+    if (whole.origin[size_t(i)] == Origin::kTarget) {
+      ASSERT_EQ(c, kCopiedColour) << i;
+      ASSERT_EQ(v, kCopiedIntensity) << i;
+    } else {  // the exemplar point's own: colour and intensity name the same point
+      ASSERT_EQ(c(2), 7) << i;
+      ASSERT_EQ(Index(c(0)) | Index(c(1)) << 8, Index(v)) << i;
+    }
+  }
+  // A tile without the colours the plan's exemplar had is refused.
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet bare(t.E.positions());
+  EXPECT_THROW(apply_plan(plan, &bare, nullptr), InvariantError);
+}
+
+TEST(ApplyPlan, PointsOutsideThePlansScanAreFound) {
+  const TwoPatches t;
+  const TransferPlan plan = plan_transfer(t.inputs());
+  EXPECT_EQ(first_point_outside(plan, t.E), -1);
+  Eigen::Matrix3Xd p = t.E.positions();
+  p.col(7) += Eigen::Vector3d(0, 0, 0.01);
+  EXPECT_EQ(first_point_outside(plan, PointSet(p)), 7);
+}
+
+TEST(ApplyPlan, InconsistentPlansAreNamed) {
+  const TwoPatches t;
+  TransferPlan plan = plan_transfer(t.inputs());
+  plan.base[3] = std::int32_t(plan.exemplar_samples.cols());
+  EXPECT_NE(plan_inconsistency(plan).find("base out of range"), std::string::npos);
+  plan = plan_transfer(t.inputs());
+  plan.patch[0] = 9;
+  EXPECT_NE(plan_inconsistency(plan).find("patch out of range"), std::string::npos);
+  plan = plan_transfer(t.inputs());
+  plan.shift.pop_back();
+  EXPECT_NE(plan_inconsistency(plan), "");
+}
+
+TEST(TileRanges, ConsecutiveRunsCoverEveryIndexOnce) {
+  const auto r = tile_ranges(10, 4);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_EQ(r[0], std::make_pair(Index(0), Index(3)));
+  EXPECT_EQ(r[1], std::make_pair(Index(3), Index(6)));
+  EXPECT_EQ(r[2], std::make_pair(Index(6), Index(8)));
+  EXPECT_EQ(r[3], std::make_pair(Index(8), Index(10)));
+  EXPECT_THROW(tile_ranges(10, 0), InvariantError);
 }
 
 TEST(CopySurface, ACloudOrADenseEnoughMeshIsTheTargetItself) {
