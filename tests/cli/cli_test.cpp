@@ -75,13 +75,15 @@ TEST(Cli, InfoOnEverySharedFileMatchesTheReaderCounts) {
 TEST(Cli, InfoReadsTheHeaderOnlyUnlessToldToReadThePoints) {
   test::TempDir dir;
   const std::string nan4(4, '\xff');  // 0xffffffff: a float NaN
-  std::string ply = "ply\nformat binary_little_endian 1.0\ncomment end_header in a comment\nelement vertex 1000\n"
-                    "property float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
-                    "property uchar blue\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\ncomment end_header in a comment\nelement vertex 1000\n"
+      "property float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+      "property uchar blue\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n";
   for (int i = 0; i < 1000; ++i) ply += nan4 + nan4 + nan4 + "abc";
   test::write_bytes(dir / "nan.ply", ply);
-  std::string pcd = "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 50\nHEIGHT 20\n"
-                    "VIEWPOINT 1 2 3 1 0 0 0\nPOINTS 1000\nDATA binary\n";
+  std::string pcd =
+      "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 50\nHEIGHT 20\n"
+      "VIEWPOINT 1 2 3 1 0 0 0\nPOINTS 1000\nDATA binary\n";
   for (int i = 0; i < 1000; ++i) pcd += nan4 + nan4 + nan4 + nan4;
   test::write_bytes(dir / "nan.pcd", pcd);
 
