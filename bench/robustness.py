@@ -43,6 +43,14 @@ COMPLETIONS = [
     ("crate (box template)", "procedural:crate", ["procedural:crate_template"]),
 ]
 
+# Real models drawn y-up, as many meshes are (shape, file under ../shared/data/models, template kind): completed with
+# their own body of revolution or bounding box, from the same views turned to y-up.
+REAL_Y_UP = [
+    ("real y-up: vase (text2mesh)", "text2mesh_vase.obj", "revolution:"),
+    ("real y-up: candle (text2mesh)", "text2mesh_candle.obj", "revolution:"),
+    ("real y-up: square pillar (3D scan, box template)", "threedscans_Column03.obj", "box:"),
+]
+
 # (shape, source, target, exemplar, styled target)
 TRANSFERS = [
     ("two disks, equal", "procedural:gear_template", "procedural:disk_pair", "procedural:gear", "procedural:gear_pair"),
@@ -69,11 +77,14 @@ def bbox_of(exe, shape, work):
     return json.loads(run([exe, "info", "--full", "--json", shape]))["bbox"]
 
 
-def eye_for(bbox, view):
+def eye_for(bbox, view, up="z"):
+    """The eye for a view of a model whose up axis is `up` (z, or y for models drawn y-up)."""
     lo, hi = bbox
     centre = [(a + b) / 2 for a, b in zip(lo, hi)]
     diag = math.dist(lo, hi)
     d = VIEWS[view]
+    if up == "y":
+        d = (d[0], d[2], -d[1])
     n = math.sqrt(sum(x * x for x in d))
     return centre, [c + 2.6 * diag * x / n for c, x in zip(centre, d)]
 
@@ -82,12 +93,12 @@ def yaml_list(v):
     return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
 
 
-def completion_case(exe, work, shape, model, template, view, preset):
+def completion_case(exe, work, shape, model, template, view, preset, up="z"):
     name = f"{shape} | {template.split(':')[-1]} | {view}"
     tag = "".join(c if c.isalnum() else "_" for c in name)
     d = os.path.join(work, tag)
     os.makedirs(d, exist_ok=True)
-    centre, eye = eye_for(bbox_of(exe, model, work), view)
+    centre, eye = eye_for(bbox_of(exe, model, work), view, up)
     scan = os.path.join(d, "scan.ply")
     run([exe, "scan", "--input", model, "--output", scan, "--eye", ",".join(map(str, eye)), "--target",
          ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"])
@@ -144,11 +155,15 @@ def main():
     for shape, model, templates in COMPLETIONS:
         for template in templates:
             for view in VIEWS:
-                cases.append(("completion", shape, model, template, view))
+                cases.append(("completion", shape, model, template, view, "z"))
     vaselion = os.path.join(DATA, "models", "vaselion.obj")
     if os.path.exists(vaselion):
         for view in VIEWS:
-            cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view))
+            cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view, "z"))
+        for shape, file, kind in REAL_Y_UP:
+            model = os.path.join(DATA, "models", file)
+            for view in VIEWS:
+                cases.append(("completion", shape, model, kind + model, view, "y"))
     else:
         print(f"skipping the real cases: {vaselion} is absent", file=sys.stderr)
     for t in TRANSFERS:
@@ -156,15 +171,16 @@ def main():
     rows = []
     t_all = time.time()
     for case in cases:
-        label = " | ".join(str(x) for x in case[1:] if not str(x).startswith("/"))
+        label = " | ".join(str(x) for x in case[1:-1 if case[0] == "completion" else None]
+                           if not str(x).startswith("/"))
         if args.only and not any(o in label for o in args.only.split(",")):
             continue
         t0 = time.time()
         try:
             if case[0] == "completion":
-                _, shape, model, template, view = case
+                _, shape, model, template, view, up = case
                 name, cfg, out_dir, eval_args = completion_case(exe, args.out, shape, model, template, view,
-                                                                args.preset)
+                                                                args.preset, up)
             else:
                 _, shape, source, target, exemplar, styled = case
                 name = shape

@@ -143,7 +143,7 @@ void flatten_option(const std::string& key, py::handle value, std::vector<std::s
 std::string absolute_input(const std::string& text) {
   const InputSpec spec = parse_input(text, std::filesystem::current_path());
   if (!spec.procedural.empty()) return text;
-  return (spec.revolution ? "revolution:" : "") + spec.path.string();
+  return (spec.revolution ? "revolution:" : spec.box ? "box:" : "") + spec.path.string();
 }
 
 // A C-contiguous copy of an N x 3 array as a 3 x N matrix (row-major N x 3 is column-major 3 x N).

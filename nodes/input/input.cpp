@@ -1,7 +1,11 @@
 #include "nodes/input/input.h"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 
+#include "nodes/core/errors.h"
 #include "nodes/curves/curves.h"
 #include "nodes/procedural/shapes.h"
 
@@ -10,9 +14,25 @@ namespace {
 
 constexpr std::string_view kProcedural = "procedural:";
 constexpr std::string_view kRevolution = "revolution:";
+constexpr std::string_view kBox = "box:";
 
 bool starts_with(const std::string& s, std::string_view prefix) {
   return s.rfind(prefix, 0) == 0;
+}
+
+// " (body of revolution about z)", or about the direction's coordinates when it is not a coordinate axis.
+std::string revolution_format(const Eigen::Vector3d& d) {
+  std::ostringstream s;
+  s << " (body of revolution about ";
+  const int k = std::abs(d.x()) > 1 - 1e-12   ? 0
+                : std::abs(d.y()) > 1 - 1e-12 ? 1
+                : std::abs(d.z()) > 1 - 1e-12 ? 2
+                                              : -1;
+  if (k >= 0)
+    s << "xyz"[k] << ")";
+  else
+    s << std::setprecision(3) << "(" << d.x() << ", " << d.y() << ", " << d.z() << "))";
+  return s.str();
 }
 
 }  // namespace
@@ -24,6 +44,9 @@ InputSpec parse_input(const std::string& text, const std::filesystem::path& base
   if (starts_with(rest, kRevolution)) {
     spec.revolution = true;
     rest = rest.substr(kRevolution.size());
+  } else if (starts_with(rest, kBox)) {
+    spec.box = true;
+    rest = rest.substr(kBox.size());
   }
   if (starts_with(rest, kProcedural))
     spec.procedural = rest.substr(kProcedural.size());
@@ -50,7 +73,7 @@ std::optional<std::string> check_input(const InputSpec& spec) {
 }
 
 std::optional<std::string> check_drawing_input(const InputSpec& spec) {
-  if (!spec.procedural.empty() || spec.revolution)
+  if (!spec.procedural.empty() || spec.revolution || spec.box)
     return "mode curves reads drawings from files (.svg, .txt or .polyline), got '" + spec.text + "'";
   std::error_code ec;
   if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
@@ -74,8 +97,21 @@ LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
     InputSpec model = spec;
     model.revolution = false;
     LoadResult r = load_input(model, options);
-    r.points = make_revolution(r.points);
-    r.format += " (body of revolution)";
+    if (r.points.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
+    const RevolutionAxis axis = revolution_axis(r.points);
+    r.points = make_revolution(r.points, axis);
+    r.format += revolution_format(axis.direction);
+    r.file_points = r.points.size();
+    return r;
+  }
+  if (spec.box) {
+    InputSpec model = spec;
+    model.box = false;
+    LoadResult r = load_input(model, options);
+    const BoundingBox b = input_bounds(r);
+    if (!((b.max - b.min).minCoeff() > 0)) throw InputError("a bounding box template needs a model with some volume");
+    r.points = make_lowpoly_box(b.max - b.min, (b.min + b.max) / 2);
+    r.format += " (bounding box)";
     r.file_points = r.points.size();
     return r;
   }

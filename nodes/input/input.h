@@ -2,7 +2,8 @@
 //
 //   FILE                  a point cloud or mesh (.ply .pcd .obj .off .stl .xyz), relative to `base`
 //   procedural:NAME       a procedural shape (nodes/procedural/shapes.h)
-//   revolution:INPUT      the body of revolution about z of INPUT (a FILE or procedural:NAME): a template
+//   revolution:INPUT      the body of revolution of INPUT (a FILE or procedural:NAME) about its own axis: a template
+//   box:INPUT             the axis-aligned bounding box of INPUT, 8 vertices: the plain template of a box-like model
 //
 // This file is the one owner of that syntax: parse_input reads it, check_input says why it cannot be loaded, and
 // load_input loads it.
@@ -21,7 +22,8 @@ struct InputSpec {
   std::string text;            // as written by the user
   std::filesystem::path path;  // the file, resolved against `base` (empty for a procedural input)
   std::string procedural;      // shape name of "procedural:NAME"
-  bool revolution = false;     // "revolution:...": the body of revolution about z of the model
+  bool revolution = false;     // "revolution:...": the body of revolution of the model about its axis
+  bool box = false;            // "box:...": the model's axis-aligned bounding box
 };
 
 // Parses `text`; a relative file path is resolved against `base` (the config file's folder; empty = as written).

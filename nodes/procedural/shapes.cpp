@@ -1,9 +1,12 @@
 #include "nodes/procedural/shapes.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 
 #include "nodes/core/errors.h"
@@ -347,26 +350,91 @@ PointSet make_disk_pair(double second_scale, bool gears) {
   return merged(transformed(disk, left), transformed(disk, right));
 }
 
-PointSet make_revolution(const PointSet& model, int rings, int segments) {
-  if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
-  const BoundingBox box = bounding_box(model.positions());
-  const Eigen::Vector2d axis = (box.min.head<2>() + box.max.head<2>()) / 2;
-  const double z0 = box.min.z(), height = box.max.z() - box.min.z();
-  if (!(height > 0)) throw InputError("a body of revolution needs a model with some height along z");
-  std::vector<std::vector<double>> bins(size_t(rings) + 1);
-  for (Index i = 0; i < model.size(); ++i) {
-    const Eigen::Vector3d p = model.positions().col(i);
-    const int b = std::clamp(int(std::lround((p.z() - z0) / height * rings)), 0, rings);
-    bins[size_t(b)].push_back((p.head<2>() - axis).norm());
+namespace {
+
+// The model's points along `axis`, each as (height bin, distance from the axis).
+struct AxialSamples {
+  std::vector<std::vector<double>> bins;  // per height bin, the distances from the axis
+  double start = 0, height = 0;           // the lowest point and the extent along the axis
+};
+
+AxialSamples axial_samples(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, int rings) {
+  AxialSamples a;
+  double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
+  for (Index i = 0; i < p.cols(); ++i) {
+    const double t = (p.col(i) - axis.centre).dot(axis.direction);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
   }
-  std::vector<double> radius(size_t(rings) + 1, -1);
+  a.start = lo;
+  a.height = hi - lo;
+  a.bins.resize(size_t(rings) + 1);
+  if (!(a.height > 0)) return a;
+  for (Index i = 0; i < p.cols(); ++i) {
+    const Eigen::Vector3d d = p.col(i) - axis.centre;
+    const double t = d.dot(axis.direction);
+    const int b = std::clamp(int(std::lround((t - lo) / a.height * rings)), 0, rings);
+    a.bins[size_t(b)].push_back((d - t * axis.direction).norm());
+  }
+  return a;
+}
+
+// Per bin, the median distance (-1 where the bin is empty).
+std::vector<double> median_radii(std::vector<std::vector<double>>& bins) {
+  std::vector<double> radius(bins.size(), -1);
   for (size_t b = 0; b < bins.size(); ++b)
     if (!bins[b].empty()) {
       auto mid = bins[b].begin() + std::ptrdiff_t(bins[b].size() / 2);
       std::nth_element(bins[b].begin(), mid, bins[b].end());
       radius[b] = *mid;
     }
-  // Fill empty bins from their neighbours, then smooth with a 5-bin moving average.
+  return radius;
+}
+
+// How far the model is from a body of revolution about `axis`: the mean distance of its points from their height's
+// median radius, relative to the mean radius. Near 0 for a vase about its own axis; large about any other.
+double revolution_misfit(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, int rings) {
+  AxialSamples a = axial_samples(p, axis, rings);
+  if (!(a.height > 0)) return std::numeric_limits<double>::infinity();
+  const std::vector<double> radius = median_radii(a.bins);
+  double off = 0, sum = 0;
+  for (size_t b = 0; b < a.bins.size(); ++b)
+    for (double r : a.bins[b]) {
+      off += std::abs(r - radius[b]);
+      sum += r;
+    }
+  return sum > 0 ? off / sum : std::numeric_limits<double>::infinity();
+}
+
+// The axes tried: z, x, y and the model's principal axes, each through the bounding box's centre.
+std::vector<RevolutionAxis> candidate_revolution_axes(const Eigen::Matrix3Xd& p) {
+  const BoundingBox box = bounding_box(p);
+  const Eigen::Vector3d centre = (box.min + box.max) / 2;
+  std::vector<RevolutionAxis> axes;
+  const std::array<Eigen::Vector3d, 3> coordinate{Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                                                  Eigen::Vector3d::UnitY()};
+  for (const Eigen::Vector3d& a : coordinate) axes.push_back({centre - centre.dot(a) * a, a});
+  const Eigen::Vector3d mean = p.rowwise().mean();
+  const Eigen::Matrix3Xd d = p.colwise() - mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(d * d.transpose());
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d a = eig.eigenvectors().col(k).normalized();
+    if (a.cwiseAbs().maxCoeff() < std::cos(2 * M_PI / 180)) axes.push_back({centre - centre.dot(a) * a, a});
+  }
+  return axes;
+}
+
+// A right-handed frame (u, v, axis): u x v = axis. For z it is (x, y, z).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> frame_across(const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d u = std::abs(axis.z()) > 0.9
+                                ? Eigen::Vector3d::UnitX()
+                                : (std::abs(axis.y()) > 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY());
+  const Eigen::Vector3d u_across = (u - u.dot(axis) * axis).normalized();
+  return {u_across, axis.cross(u_across)};
+}
+
+// Fill empty bins from their neighbours, then smooth with a 5-bin moving average.
+std::vector<double> smoothed_profile(std::vector<double> radius) {
   for (size_t b = 0; b < radius.size(); ++b)
     if (radius[b] < 0) {
       size_t l = b, r = b;
@@ -387,11 +455,37 @@ PointSet make_revolution(const PointSet& model, int rings, int segments) {
     }
     smooth[b] = sum / n;
   }
+  return smooth;
+}
+
+}  // namespace
+
+RevolutionAxis revolution_axis(const PointSet& model, int rings) {
+  const std::vector<RevolutionAxis> axes = candidate_revolution_axes(model.positions());
+  std::vector<double> misfit;
+  for (const auto& a : axes) misfit.push_back(revolution_misfit(model.positions(), a, rings));
+  const size_t best = size_t(std::min_element(misfit.begin(), misfit.end()) - misfit.begin());
+  // z, where it fits nearly as well: the axis the virtual scanner and the procedural shapes assume.
+  return misfit[0] <= 1.05 * misfit[best] ? axes[0] : axes[best];
+}
+
+PointSet make_revolution(const PointSet& model, int rings, int segments) {
+  if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
+  return make_revolution(model, revolution_axis(model, rings), rings, segments);
+}
+
+PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings, int segments) {
+  AxialSamples a = axial_samples(model.positions(), axis, rings);
+  if (!(a.height > 0)) throw InputError("a body of revolution needs a model with some extent along its axis");
+  const std::vector<double> smooth = smoothed_profile(median_radii(a.bins));
+  const auto [u, v] = frame_across(axis.direction);
+  const double start = a.start, height = a.height;
   MeshBuilder m;
   m.grid(
       [&](double s, double t) {
         const double phi = 2 * M_PI * s, r = smooth[size_t(std::lround(t * rings))];
-        return Eigen::Vector3d(axis.x() + r * std::cos(phi), axis.y() + r * std::sin(phi), z0 + t * height);
+        return Eigen::Vector3d(axis.centre + r * std::cos(phi) * u + r * std::sin(phi) * v +
+                               (start + t * height) * axis.direction);
       },
       segments, rings, true);
   return m.build();

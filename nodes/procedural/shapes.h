@@ -63,10 +63,23 @@ PointSet make_crate_template();
 // transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
 PointSet make_disk_pair(double second_scale, bool gears);
 
-// The body of revolution about the vertical axis (z, through the centre of the bounding box in x and y) that best
-// fits a model: per height, the median distance of its points from the axis, smoothed; an open tube from the lowest
-// to the highest point. The plain structural template of a vase-like scan (relief, beads and handles averaged away).
+// The axis of a body of revolution: a point on it and its unit direction.
+struct RevolutionAxis {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+};
+
+// The axis about which a model is most nearly a body of revolution: of z, x, y and the model's principal axes, each
+// through the centre of its bounding box, the one whose rings' radii vary least (z where it fits within 5% of the
+// best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up.
+RevolutionAxis revolution_axis(const PointSet& model, int rings = 128);
+
+// The body of revolution about the model's revolution_axis that best fits it: per height, the median distance of its
+// points from the axis, smoothed; an open tube from the lowest to the highest point along the axis. The plain
+// structural template of a vase-like scan (relief, beads and handles averaged away).
 PointSet make_revolution(const PointSet& model, int rings = 128, int segments = 256);
+// The same about a given axis.
+PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings = 128, int segments = 256);
 
 // The mesh moved by q (faces kept), and two meshes as one.
 PointSet transformed(const PointSet& mesh, const Similarity& q);

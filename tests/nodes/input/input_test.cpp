@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "nodes/core/errors.h"
 #include "nodes/procedural/shapes.h"
 #include "test_util.h"
@@ -48,11 +50,24 @@ TEST(Input, LoadsShapesAndBodiesOfRevolution) {
   EXPECT_EQ(shape.points.size(), make_gear_template().size());
   EXPECT_TRUE(shape.points.has_faces());
   const LoadResult revolved = load_input(parse_input("revolution:procedural:vase"));
-  EXPECT_EQ(revolved.format, "procedural (body of revolution)");
+  EXPECT_EQ(revolved.format, "procedural (body of revolution about z)");
   EXPECT_EQ(revolved.points.size(), make_revolution(make_vase()).size());
   EXPECT_EQ(revolved.file_points, revolved.points.size());
   const BoundingBox box = input_bounds(shape);
   EXPECT_LT(box.min.x(), box.max.x());
+}
+
+TEST(Input, ABodyOfRevolutionTurnsAboutTheModelsOwnAxis) {
+  // The vase drawn y-up, as many meshes are: its body of revolution is the z-up one turned the same way.
+  const Similarity z_to_y{Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+                          Eigen::Vector3d(0.1, 0.2, 0.3), 1.0};
+  const PointSet vase = make_vase(), turned = transformed(vase, z_to_y);
+  EXPECT_EQ(revolution_axis(vase).direction, Eigen::Vector3d::UnitZ());
+  const RevolutionAxis axis = revolution_axis(turned);
+  EXPECT_GT(std::abs(axis.direction.y()), 0.999);
+  const BoundingBox expected = bounding_box(transformed(make_revolution(vase), z_to_y).positions()),
+                    got = bounding_box(make_revolution(turned).positions());
+  EXPECT_LT((expected.min - got.min).norm() + (expected.max - got.max).norm(), 0.01 * expected.diagonal());
 }
 
 }  // namespace
