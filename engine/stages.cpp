@@ -293,6 +293,8 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both.
     SupportOptions options = config.support;
     options.allow_scale = config.vote.allow_scale;
+    options.min_scale = config.vote.min_scale;
+    options.max_scale = config.vote.max_scale;
     const PointSet& T = v.target()->features.points;
     SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
@@ -317,8 +319,13 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
     const Votes& v = *in->modes->votes;
     auto a = std::make_shared<Labelled>();
     a->supports = in;
-    a->labels =
-        label_target(v.source(), v.target()->features.points, in->support.transforms, v.spacing(), state.config.label);
+    LabelOptions options = state.config.label;
+    if (!options.up) {
+      options.up = upright_axis(v.symmetries->target_symmetry);
+      node_logger("label")->debug("up ({:.3g}, {:.3g}, {:.3g}), from the target's symmetry", options.up->x(),
+                                  options.up->y(), options.up->z());
+    }
+    a->labels = label_target(v.source(), v.target()->features.points, in->support.transforms, v.spacing(), options);
     node_logger("label")->info("energy {:.6g} -> {:.6g} in {} sweeps; {} samples relabelled by the clean-up",
                                a->labels.energy_before, a->labels.energy_after, a->labels.cycles, a->labels.cleaned);
     state.keep(a);

@@ -96,11 +96,18 @@ double eq5_unary(const PointSet& source, const KdTree& source_tree, const PointS
   return std::min(o.unary_cap, d * d / scales.position2 + (1 - c) / scales.normal2);
 }
 
-// Ours: each sample's own preference for the transform that keeps +z up, o.upright_unary (1 - cos tilt) / 2. Where
-// the template fits a flip and a turn about the vertical alike (a box's back faces), the label cost alone lets one flip
-// cover the back faces and the bottom at once, turning the style upside down; this makes each sample pay for it.
+// (1 - cos tilt) / 2, tilt the angle by which q's rotation turns the object's up direction (o.up, +z when unset).
+double tilt(const Similarity& q, const LabelOptions& o) {
+  const Eigen::Vector3d up = o.up ? o.up->normalized() : Eigen::Vector3d::UnitZ();
+  return (1 - up.dot(q.rotation * up)) / 2;
+}
+
+// Ours: each sample's own preference for the transform that keeps the object upright, o.upright_unary (1 - cos tilt)
+// / 2. Where the template fits a flip and a turn about the vertical alike (a box's back faces), the label cost alone
+// lets one flip cover the back faces and the bottom at once, turning the style upside down; this makes each sample
+// pay for it.
 double upright_unary(const Similarity& q, const LabelOptions& o) {
-  return o.upright_unary * (1 - q.rotation(2, 2)) / 2;
+  return o.upright_unary * tilt(q, o);
 }
 
 void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const PointSet& target,
@@ -199,7 +206,7 @@ class Eq7Pairwise {
 double our_label_cost(const Similarity& q, Index n, const LabelOptions& o) {
   return o.label_cost_per_sample * double(n) *
          (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
-          o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * (1 - q.rotation(2, 2)) / 2);
+          o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * tilt(q, o));
 }
 
 // Euler angles (a, b, c) of R = R_x(a) R_y(b) R_z(c). At gimbal lock (cos b = 0) only a + c or a - c is defined:

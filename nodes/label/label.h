@@ -15,7 +15,8 @@
 //    + scale_prior |log2 s| + upright_prior (1 - cos tilt) / 2), N the number of target samples, tilt the angle
 //    between R z and z. The paper's eq. 9 cannot tell a quarter turn about the vertical from a half turn that turns
 //    the object upside down (both are kappa pi / 2 rotations), and on a symmetric template the data cannot either;
-//    objects stand upright (+z up, as the virtual scanner assumes), so turning one over costs more.
+//    objects stand upright (along `up`: +z as the virtual scanner assumes, or the target's own axis, since many meshes
+//    are drawn y-up), so turning one over costs more.
 //    paper_label_costs restores eq. 8 and 9 as printed: h = 0 for the identity (rotation under 2 degrees, scale within
 //    1%, translation under alpha) and h = N (ln 2 + sum_a (1 - cos 4 R_a) + (s - 1)^2) otherwise, R_a the Euler angles
 //    (R = R_x R_y R_z), so N ln 2 for an axis rotation at unit scale.
@@ -30,6 +31,7 @@
 // Labels are sparse: label l is feasible only within `dilation` alpha of its support.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "nodes/core/analogy.h"
@@ -56,6 +58,8 @@ struct LabelOptions {
                                         // an upright turn fit the template alike, each sample prefers the upright
                                         // one; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
+  std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
+                                        // sets it from the target's symmetry axis when the config does not)
   int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
   double mrf_radius = 0.0;              // if > 0: MRF neighbours are all samples within this many alpha (the paper's
                                         // 5-alpha ring, Euclidean for geodesic) instead of the mrf_k nearest; >= 0

@@ -22,13 +22,22 @@ OptionTable option_table(LabelOptions& l) {
         "eq. 9 weight of the rotation's angle from the nearest axis-aligned one; >= 0",
         non_negative(&l.rotation_prior)},
        {"upright_prior", &l.upright_prior,
-        "weight of the tilt of +z, (1 - cos tilt) / 2: turning the object over costs more than a turn about the "
+        "weight of the tilt of the up direction, (1 - cos tilt) / 2: turning the object over costs more than a turn "
+        "about the "
         "vertical; >= 0",
         non_negative(&l.upright_prior)},
        {"upright_unary", &l.upright_unary,
-        "per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and an upright turn fit the template "
+        "per-sample unary of the tilt of the up direction, (1 - cos tilt) / 2: where a flip and an upright turn fit "
+        "the template "
         "alike, each sample prefers the upright one; >= 0",
         non_negative(&l.upright_unary)},
+       {"up", &l.up,
+        "the object's up direction [x, y, z] for the upright terms; ~ = the target's axis of rotational symmetry "
+        "(continuous, else the one of highest order when it is unique), else +z",
+        [p = &l.up]() -> std::optional<std::string> {
+          if (!*p || (p->value().allFinite() && p->value().norm() > 1e-12)) return std::nullopt;
+          return "expected a non-zero direction [x, y, z] or ~";
+        }},
        {"scale_prior", &l.scale_prior, "eq. 9 weight of |log2 scale|; >= 0", non_negative(&l.scale_prior)},
        {"mrf_k", &l.mrf_k, "MRF neighbours per sample; [1, 32]",
         range(&l.mrf_k, 1, 32, false, "an integer in [1, 32]")},

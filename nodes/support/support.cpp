@@ -132,6 +132,7 @@ SupportResult select_transforms(std::vector<SupportedTransform> found, const Poi
   const double cos_dup = std::cos(o.duplicate_angle_deg * M_PI / 180);
   for (auto& st : found) {
     if (Index(st.support.size()) < o.min_support) continue;
+    if (!(st.transform.scale >= o.min_scale && st.transform.scale <= o.max_scale)) continue;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (const auto t : st.support) centre += target.positions().col(t);
     centre /= double(st.support.size());

@@ -10,7 +10,9 @@
 // explain (nearly) the same samples as a stronger one add nothing to the analogy but labels: the symmetric equivalents
 // of a box or a cylinder, or a part slid along a flat face. They are dropped (`redundant_overlap`), keeping the largest
 // support, then the lowest RMS distance. Transforms whose support falls below `min_support` samples, or that end up
-// within tolerance of a stronger one, are dropped.
+// within tolerance of a stronger one, are dropped, and so are transforms whose refined scale left the voted range
+// [min_scale, max_scale] (ICP collapsing a transform onto a few source samples, which are then near every target
+// sample: such a transform would "explain" most of the target and push the real ones out as redundant).
 #pragma once
 
 #include <vector>
@@ -29,6 +31,9 @@ struct SupportOptions {
   Index icp_samples = 4096;          // ICP uses at most this many support samples (an even subsample); >= 3
   Index min_support = 30;            // transforms explaining fewer samples are dropped; >= 1
   bool allow_scale = true;           // refine as similarity (true) or rigid motion
+  double min_scale = 0.25;           // refined transforms whose scale leaves [min_scale, max_scale] are dropped: ICP
+  double max_scale = 4.0;            // can shrink a transform onto a few source samples, which then "explain" any
+                                     // target sample (the engine sets both from vote's range, as allow_scale)
   double duplicate_angle_deg = 2.0;  // transforms closer than this in rotation ...
   double duplicate_distance = 1.0;   // ... and moving the support centre less than this many alpha are merged
   double redundant_overlap = 0.9;    // a transform whose support lies this much inside a stronger one's is dropped

@@ -152,6 +152,21 @@ Similarity nearest_identity_member(const Similarity& q, const SymmetryAxis& axis
   return rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction)).compose(q);
 }
 
+Eigen::Vector3d upright_axis(const SymmetryResult& symmetry) {
+  if (symmetry.continuous) return symmetry.continuous->direction;
+  const SymmetryAxis* highest = nullptr;
+  bool unique = false;
+  for (const auto& a : symmetry.axes) {
+    if (!highest || a.order > highest->order) {
+      highest = &a;
+      unique = true;
+    } else if (a.order == highest->order) {
+      unique = false;
+    }
+  }
+  return highest && unique ? highest->direction : Eigen::Vector3d::UnitZ();
+}
+
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {
     votes.embedding.col(v) = embed(nearest_identity_member(unembed(votes.embedding.col(v), votes), axis), votes);

@@ -65,6 +65,19 @@ TEST(Label, OurLabelCostsPreferAQuarterTurnAboutTheVerticalToTurningOver) {
   EXPECT_NEAR(r.label_costs[3], base * (1 + o.rotation_prior * 30.0 / 45), 1e-9 * base);
 }
 
+TEST(Label, TheUprightPriorFollowsTheUpDirection) {
+  // A model drawn y-up: with up = +y, the quarter turn about y is the upright one, and one about z turns it over.
+  LabelOptions o;
+  o.up = Eigen::Vector3d(0, 2, 0);  // any length
+  const std::vector<SupportedTransform> transforms{
+      about(Eigen::Vector3d::UnitY(), 90), about(Eigen::Vector3d::UnitZ(), 180), about(Eigen::Vector3d::UnitZ(), 90)};
+  const LabelResult r = label_target(box().samples, box().samples, transforms, box().spacing, o);
+  const double base = o.label_cost_per_sample * double(box().samples.size());
+  EXPECT_DOUBLE_EQ(r.label_costs[0], base);
+  EXPECT_NEAR(r.label_costs[1], base * (1 + o.upright_prior), 1e-9 * base);
+  EXPECT_NEAR(r.label_costs[2], base * (1 + o.upright_prior / 2), 1e-9 * base);
+}
+
 TEST(Label, TheRingMrfLabelsAnIdentityAnalogyAsTheIdentity) {
   // S = T: the identity, supported everywhere, explains every sample, with either neighbourhood.
   SupportedTransform identity_everywhere = about(Eigen::Vector3d::UnitZ(), 0);

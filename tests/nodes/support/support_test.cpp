@@ -147,6 +147,26 @@ TEST(Support, DuplicatesAndSmallSupportsAreDropped) {
   EXPECT_TRUE(near(r.transforms[0].transform, Similarity{}, 1e-6, 1e-6));
 }
 
+// ICP can shrink a transform onto a few source samples; every target sample then lands near them, and any whose normal
+// is within delta_n is "explained". Such a transform would outrank the real ones, so it is dropped by its scale.
+TEST(Support, ATransformShrunkOutOfTheScaleRangeIsDropped) {
+  const Fixture& f = fixture();
+  const double tiny = 0.003;
+  const Eigen::Vector3d centre = f.target.positions().rowwise().mean();
+  const Similarity collapsed{Eigen::Matrix3d::Identity(), f.source.positions().col(0) - tiny * centre, tiny};
+  const std::vector<Mode> modes{mode(collapsed, 0, kS + kMoved, 10), mode(Similarity{}, 0, kS)};
+  SupportOptions o;
+  o.icp_iterations = 0;
+  const SupportResult r = grow_supports(f.source, f.target, modes, f.alpha, f.alpha, o);
+  ASSERT_EQ(r.transforms.size(), 1u);
+  EXPECT_TRUE(near(r.transforms[0].transform, Similarity{}, 1e-6, 1e-6));
+  o.min_scale = tiny / 2;  // allowed: it then "explains" about half of the whole target
+  const SupportResult all = grow_supports(f.source, f.target, modes, f.alpha, f.alpha, o);
+  ASSERT_EQ(all.transforms.size(), 2u);
+  EXPECT_EQ(all.transforms[1].transform.scale, tiny);
+  EXPECT_GT(Index(all.transforms[1].support.size()), (kS + kMoved) / 3);
+}
+
 TEST(Support, ASampleIsExplainedOnlyWithinTheDistanceAndTheNormalAngle) {
   const Fixture& f = fixture();
   const Index n = kS;
