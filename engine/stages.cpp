@@ -314,17 +314,30 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
   });
 }
 
+namespace {
+
+// label.up unset: the target's own axis, else +z, said either way (a model drawn y-up without a telling symmetry needs
+// the key).
+Eigen::Vector3d up_from_symmetry(const SymmetryResult& target_symmetry) {
+  if (const auto axis = upright_axis(target_symmetry)) {
+    node_logger("label")->info("up ({:.3g}, {:.3g}, {:.3g}): the target's symmetry axis", axis->x(), axis->y(),
+                               axis->z());
+    return *axis;
+  }
+  node_logger("label")->info(
+      "up +z: the target's symmetry singles out no axis (set label.up for a model drawn otherwise)");
+  return Eigen::Vector3d::UnitZ();
+}
+
+}  // namespace
+
 LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
   return run_node(state, "label", "", [&](const ProgressFn&) {
     const Votes& v = *in->modes->votes;
     auto a = std::make_shared<Labelled>();
     a->supports = in;
     LabelOptions options = state.config.label;
-    if (!options.up) {
-      options.up = upright_axis(v.symmetries->target_symmetry);
-      node_logger("label")->debug("up ({:.3g}, {:.3g}, {:.3g}), from the target's symmetry", options.up->x(),
-                                  options.up->y(), options.up->z());
-    }
+    if (!options.up) options.up = up_from_symmetry(v.symmetries->target_symmetry);
     a->labels = label_target(v.source(), v.target()->features.points, in->support.transforms, v.spacing(), options);
     node_logger("label")->info("energy {:.6g} -> {:.6g} in {} sweeps; {} samples relabelled by the clean-up",
                                a->labels.energy_before, a->labels.energy_after, a->labels.cycles, a->labels.cleaned);

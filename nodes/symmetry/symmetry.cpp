@@ -152,7 +152,7 @@ Similarity nearest_identity_member(const Similarity& q, const SymmetryAxis& axis
   return rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction)).compose(q);
 }
 
-Eigen::Vector3d upright_axis(const SymmetryResult& symmetry) {
+std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry) {
   if (symmetry.continuous) return symmetry.continuous->direction;
   const SymmetryAxis* highest = nullptr;
   bool unique = false;
@@ -164,7 +164,8 @@ Eigen::Vector3d upright_axis(const SymmetryResult& symmetry) {
       unique = false;
     }
   }
-  return highest && unique ? highest->direction : Eigen::Vector3d::UnitZ();
+  if (highest && unique) return highest->direction;
+  return std::nullopt;
 }
 
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis) {

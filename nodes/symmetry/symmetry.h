@@ -59,9 +59,9 @@ struct SymmetryResult {
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& options);
 
 // The direction a symmetric object stands along: its continuous axis, else its discrete axis of highest order when
-// no other axis has that order, else +z. A vase or a cylinder drawn y-up gives y; a box with a square footprint gives
-// the axis of its quarter turns; a cube or a shape without symmetry gives +z.
-Eigen::Vector3d upright_axis(const SymmetryResult& symmetry);
+// no other axis has that order, else nothing (the symmetry does not tell). A vase or a cylinder drawn y-up gives y; a
+// box with a square footprint gives the axis of its quarter turns; a cube or a shape without symmetry gives nothing.
+std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry);
 
 // Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
 // member of its family G_theta o Q (G_theta the rotation about the axis, which leaves S unchanged) whose rotation is
