@@ -210,17 +210,16 @@ flow::sender<PartsPtr>& add_parts(Wiring& w, const Input& input) {
   return parts;
 }
 
-// Mode exchange (paper section 7, Figure 14): per exemplar load -> sample, and its parts (S); per target its parts
-// (T); per exemplar/target pair, exchange: the box-wise analogy S -> T applied to the exemplar's samples.
+// Mode exchange (paper section 7, Figure 14): per exemplar load, and its parts (S); per target its parts (T); per
+// exemplar/target pair, exchange: the box-wise analogy S -> T applied to the whole exemplar (no sampling: the maps are
+// found on the boxes alone and carry every point or triangle).
 void build_exchange(Wiring& w) {
-  using Exemplar = std::tuple<SampledPtr, PartsPtr>;
+  using Exemplar = std::tuple<LoadedPtr, PartsPtr>;
   std::vector<flow::sender<Exemplar>*> exemplars;
   for (const Input* e : inputs_for(w.state.config, Role::kExemplar)) {
     auto& load = w.node<flow::continue_msg, LoadedPtr>([&w, e](flow::continue_msg) { return load_stage(w.state, *e); });
-    auto& sample = w.node<LoadedPtr, SampledPtr>([&w](const LoadedPtr& in) { return sample_stage(w.state, in, {}); });
     flow::make_edge(w.start, load);
-    flow::make_edge(load, sample);
-    exemplars.push_back(&w.join(sample, add_parts(w, *e)));
+    exemplars.push_back(&w.join(load, add_parts(w, *e)));
   }
   const std::vector<const Input*> targets = inputs_for(w.state.config, Role::kTarget);
   for (size_t t = 0; t < targets.size(); ++t) {

@@ -471,13 +471,13 @@ PartsPtr parts_stage(RunState& state, const Input& input) {
   });
 }
 
-ExchangedPtr exchange_stage(RunState& state, const SampledPtr& exemplar, const PartsPtr& exemplar_parts,
+ExchangedPtr exchange_stage(RunState& state, const LoadedPtr& exemplar, const PartsPtr& exemplar_parts,
                             const PartsPtr& target_parts, size_t pair) {
   const std::string name = "exchange:" + exemplar_parts->input.name + ":" + target_parts->input.name;
   return run_node(state, name, "", [&](const ProgressFn&) {
     auto out = std::make_shared<Exchanged>(Exchanged{
         exemplar, exemplar_parts, target_parts, pair,
-        exchange_style(exemplar->sample.samples, exemplar_parts->boxes, target_parts->boxes, state.config.exchange)});
+        exchange_style(exemplar->load.points, exemplar_parts->boxes, target_parts->boxes, state.config.exchange)});
     const BoxAnalogy& a = out->exchange.analogy;
     node_logger("exchange")
         ->info("{} -> {}: {} candidate maps, {} used on {} target boxes, energy {:.4g} -> {:.4g}, {} output points",

@@ -138,7 +138,7 @@ struct Parts {
 };
 using PartsPtr = std::shared_ptr<const Parts>;
 struct Exchanged {
-  SampledPtr exemplar;
+  LoadedPtr exemplar;  // carried at full resolution: a mesh's triangles, a cloud's points
   PartsPtr exemplar_parts, target_parts;
   size_t pair = 0;  // exemplar index x targets + target index: the report's order
   Exchange exchange;
@@ -220,7 +220,7 @@ DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);
 
 // Mode exchange: an input's part boxes; one pair's box-wise analogy and synthesis.
 PartsPtr parts_stage(RunState& state, const Input& input);
-ExchangedPtr exchange_stage(RunState& state, const SampledPtr& exemplar, const PartsPtr& exemplar_parts,
+ExchangedPtr exchange_stage(RunState& state, const LoadedPtr& exemplar, const PartsPtr& exemplar_parts,
                             const PartsPtr& target_parts, size_t pair);
 
 // Builds and runs the graph of state.config.mode (pipeline.cpp); with state.plan_only it ends at the plan node.

@@ -35,7 +35,12 @@ double BoxTransform::angle() const {
 }
 
 double BoxTransform::distortion() const {
-  return scales.array().log().square().mean();
+  const Eigen::Array3d l = scales.array().log();
+  return (l - l.mean()).square().mean();
+}
+
+double BoxTransform::log_scale() const {
+  return scales.array().log().mean();
 }
 
 BoxTransform box_transform(const PartBox& source, int i, const PartBox& target, int j, int rotation) {

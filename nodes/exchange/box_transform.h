@@ -32,8 +32,10 @@ struct BoxTransform {
   PartBox apply(const PartBox& box) const;
   // Rotation angle of R, radians.
   double angle() const;
-  // Mean of (log d_k)^2: 0 for a rigid map, the same for a shrink and the matching growth.
+  // Variance of log d_k: 0 for a uniform scale, the same for a stretch and the matching squash.
   double distortion() const;
+  // Mean of log d_k: the uniform part of the scale, 0 for a rigid map.
+  double log_scale() const;
 };
 
 // A maps source box i onto target box j with rotation `rotation` (an index in axis_rotations()).

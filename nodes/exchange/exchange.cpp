@@ -83,7 +83,8 @@ std::vector<std::vector<int>> box_matches(const std::vector<BoxTransform>& maps,
 
 // h_l: eq. 8 with the preferences of eq. 9 (see exchange.h).
 double map_cost(const BoxTransform& t, const ExchangeOptions& o) {
-  return o.label_cost * (1 + o.rotation_cost * (1 - std::cos(t.angle())) / 2 + o.distortion_cost * t.distortion());
+  return o.label_cost * (1 + o.rotation_cost * (1 - std::cos(t.angle())) / 2 + o.distortion_cost * t.distortion() +
+                         o.scale_cost * t.log_scale() * t.log_scale());
 }
 
 // The labelling problem on T's box samples.
@@ -137,7 +138,32 @@ std::vector<int> majority_per_box(const BoxSamples& samples, const std::vector<i
   return out;
 }
 
+Eigen::Matrix3Xd to_matrix(const std::vector<Eigen::Vector3d>& v) {
+  Eigen::Matrix3Xd m(3, Index(v.size()));
+  for (size_t i = 0; i < v.size(); ++i) m.col(Index(i)) = v[i];
+  return m;
+}
+
 }  // namespace
+
+std::vector<std::vector<Index>> points_by_part(const PointSet& exemplar, const PartBoxes& source) {
+  const std::vector<int> part = assign_parts(exemplar.positions(), source);
+  std::vector<std::vector<Index>> members(source.size());
+  for (size_t p = 0; p < part.size(); ++p) members[size_t(part[p])].push_back(Index(p));
+  return members;
+}
+
+std::vector<std::vector<Index>> triangles_by_part(const PointSet& exemplar, const PartBoxes& source) {
+  const Matrix3Xi& F = exemplar.faces();
+  Eigen::Matrix3Xd centroids(3, F.cols());
+  for (Index f = 0; f < F.cols(); ++f)
+    centroids.col(f) =
+        (exemplar.positions().col(F(0, f)) + exemplar.positions().col(F(1, f)) + exemplar.positions().col(F(2, f))) / 3;
+  const std::vector<int> part = assign_parts(centroids, source);
+  std::vector<std::vector<Index>> members(source.size());
+  for (size_t f = 0; f < part.size(); ++f) members[size_t(part[f])].push_back(Index(f));
+  return members;
+}
 
 const std::vector<std::string>& common_part_properties() {
   static const std::vector<std::string> names{"part",  "part_id",     "segment",     "segment_id",
@@ -217,25 +243,35 @@ std::vector<int> assign_parts(const Eigen::Matrix3Xd& points, const PartBoxes& b
 }
 
 Exchange synthesize_exchange(const PointSet& exemplar, const PartBoxes& source, BoxAnalogy analogy) {
-  const std::vector<int> part = assign_parts(exemplar.positions(), source);
-  std::vector<std::vector<Index>> members(source.size());
-  for (size_t p = 0; p < part.size(); ++p) members[size_t(part[p])].push_back(Index(p));
-  Index total = 0;
-  for (size_t j = 0; j < analogy.box_label.size(); ++j) total += Index(members[size_t(analogy.box_source[j])].size());
-  Eigen::Matrix3Xd xyz(3, total), normals(3, exemplar.has_normals() ? total : 0);
+  const std::vector<std::vector<Index>> members =
+      exemplar.has_faces() ? triangles_by_part(exemplar, source) : points_by_part(exemplar, source);
   Exchange out;
-  Index n = 0;
+  std::vector<Eigen::Vector3d> xyz, normals;
+  std::vector<std::int32_t> faces;
+  std::vector<std::int32_t> new_index(size_t(exemplar.size()), -1);
   for (size_t j = 0; j < analogy.box_label.size(); ++j) {
     const BoxTransform& t = analogy.transforms[size_t(analogy.box_label[j])];
-    for (const Index p : members[size_t(analogy.box_source[j])]) {
-      xyz.col(n) = t.apply(Eigen::Vector3d(exemplar.positions().col(p)));
-      if (exemplar.has_normals()) normals.col(n) = t.apply_normal(exemplar.normals().col(p));
+    std::fill(new_index.begin(), new_index.end(), -1);  // each target box gets its own copy of the vertices
+    const auto carry = [&](Index v) {
+      if (new_index[size_t(v)] >= 0) return new_index[size_t(v)];
+      new_index[size_t(v)] = std::int32_t(xyz.size());
+      xyz.push_back(t.apply(Eigen::Vector3d(exemplar.positions().col(v))));
+      if (exemplar.has_normals()) normals.push_back(t.apply_normal(exemplar.normals().col(v)));
       out.output_label.push_back(analogy.box_label[j]);
-      ++n;
+      return new_index[size_t(v)];
+    };
+    for (const Index m : members[size_t(analogy.box_source[j])]) {
+      if (!exemplar.has_faces()) {
+        carry(m);
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) faces.push_back(carry(exemplar.faces()(c, m)));
     }
   }
-  out.output = PointSet(std::move(xyz));
-  if (exemplar.has_normals()) out.output.set_normals(std::move(normals));
+  out.output = PointSet(to_matrix(xyz));
+  if (exemplar.has_normals()) out.output.set_normals(to_matrix(normals));
+  if (!faces.empty()) out.output.set_faces(Eigen::Map<const Matrix3Xi>(faces.data(), 3, Index(faces.size() / 3)));
+  out.output.check();
   out.analogy = std::move(analogy);
   return out;
 }

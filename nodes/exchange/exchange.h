@@ -9,16 +9,19 @@
 //               paper applies each candidate to S's samples and measures the fit; for boxes that fit is the box-surface
 //               distance, computed exactly here instead of by a nearest-neighbour search.
 //   label cost  eq. 8 with eq. 9's preferences: h_l = label_cost (1 + rotation_cost (1 - cos angle) / 2 +
-//               distortion_cost mean_k (log d_k)^2). Eq. 9 gives every axis rotation the same cost; small rotations
-//               are preferred here so that a part keeps its upright orientation when nothing asks it to turn, and
-//               eq. 9's (s - 1)^2 becomes the log-distortion so that an exact box-to-box map wins over a stretched one
-//               (a tower's box onto a tower, not onto a wall).
+//               distortion_cost var_k(log d_k) + scale_cost mean_k(log d_k)^2). Eq. 9 gives every axis rotation the
+//               same cost; small rotations are preferred here so that a part keeps its upright orientation when
+//               nothing asks it to turn. Eq. 9's (s - 1)^2 has one scale; with three, the stretch (the spread of the
+//               log scales) and the uniform part (their mean) are weighed apart, so that a box map that only scales
+//               wins over one that stretches (a tower's box onto a tower, not onto a wall).
 //   pairwise    Potts, smoothness, between grid neighbours of a face.
 //   solved by   alpha-expansion with label costs (nodes/graphcut/expansion.h); each target box then takes the label
 //               of most of its samples (ties: the lower label).
-//   synthesis   each target box j with its map A, which carries source box k onto j: the exemplar samples of part k
+//   synthesis   each target box j with its map A, which carries source box k onto j: the exemplar's points of part k
 //               (the box they lie deepest in) are moved by A, normals by the inverse transpose; the union is the
-//               output.
+//               output. A mesh exemplar keeps its triangles (a triangle belongs to the part of its centroid), so the
+//               output is a mesh at the exemplar's own resolution however much a map stretches; a cloud gives its
+//               points.
 #pragma once
 
 #include <string>
@@ -38,7 +41,8 @@ struct ExchangeOptions {
   double match_tolerance = 0.01;  // A(box k) explains box j when every corner is within this share of j's diagonal
   double label_cost = 10;         // h of a transform (eq. 8), in unary units (a sample's unary is <= 1); >= 0
   double rotation_cost = 1;       // weight of (1 - cos angle) / 2 in h; >= 0
-  double distortion_cost = 4;     // weight of mean (log d_k)^2 in h; >= 0
+  double distortion_cost = 4;     // weight of the variance of log d_k (the stretch) in h; >= 0
+  double scale_cost = 1;          // weight of the squared mean of log d_k (the uniform scale) in h; >= 0
   double smoothness = 1;          // Potts weight between neighbouring samples; >= 0
   int max_cycles = 10;            // alpha-expansion sweeps; [1, 100]
 };
@@ -71,7 +75,7 @@ BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, c
 
 struct Exchange {
   BoxAnalogy analogy;
-  PointSet output;                // the exemplar's samples carried by each target box's map
+  PointSet output;                // the exemplar carried by each target box's map (a mesh when it is one)
   std::vector<int> output_label;  // per output point, its transform (index in analogy.transforms)
 };
 
@@ -83,7 +87,12 @@ PartBoxes boxes_of_parts(const std::vector<Eigen::Vector3d>& positions, const st
 // Each exemplar point's part: the source box it lies deepest in (ties: the lower box).
 std::vector<int> assign_parts(const Eigen::Matrix3Xd& points, const PartBoxes& boxes);
 
-// The output: for every target box, the exemplar points of the source box its map carries onto it, moved by the map.
+// Per source box, the exemplar's points (or triangles, by their centroids) of that part.
+std::vector<std::vector<Index>> points_by_part(const PointSet& exemplar, const PartBoxes& source);
+std::vector<std::vector<Index>> triangles_by_part(const PointSet& exemplar, const PartBoxes& source);
+
+// The output: for every target box, the exemplar's points (or triangles) of the source box its map carries onto it,
+// moved by the map.
 Exchange synthesize_exchange(const PointSet& exemplar, const PartBoxes& source, BoxAnalogy analogy);
 
 // label_box_analogy, then synthesize_exchange.

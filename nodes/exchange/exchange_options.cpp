@@ -7,8 +7,8 @@ OptionTable option_table(ExchangeOptions& e) {
   return {"exchange",
           "mode exchange: part boxes, the maps between them, the box-wise analogy's costs",
           {{"part_property", &e.part_property,
-            "PLY vertex property with each point's part (integer, < 0 = none) when the config gives no boxes; auto = "
-            "the first of part, part_id, segment, segment_id, label, scalar_part, scalar_label",
+            "PLY vertex property with each point's part (integer, < 0 = none); auto = part, part_id, segment, "
+            "segment_id, label, scalar_part or scalar_label",
             any()},
            {"box_spacing", &e.box_spacing,
             "grid step of the target's box samples, share of its bounding-box diagonal; "
@@ -22,8 +22,11 @@ OptionTable option_table(ExchangeOptions& e) {
             non_negative(&e.label_cost)},
            {"rotation_cost", &e.rotation_cost, "weight of (1 - cos angle) / 2 in a transform's cost; >= 0",
             non_negative(&e.rotation_cost)},
-           {"distortion_cost", &e.distortion_cost, "weight of the mean (log scale_k)^2 in a transform's cost; >= 0",
+           {"distortion_cost", &e.distortion_cost,
+            "weight of the stretch (variance of log scale_k over x, y, z) in a transform's cost; >= 0",
             non_negative(&e.distortion_cost)},
+           {"scale_cost", &e.scale_cost, "weight of the uniform scale (mean of log scale_k, squared) in its cost; >= 0",
+            non_negative(&e.scale_cost)},
            {"smoothness", &e.smoothness, "Potts weight between neighbouring box samples; >= 0",
             non_negative(&e.smoothness)},
            {"max_cycles", &e.max_cycles, "alpha-expansion sweeps over the labels; [1, 100]",
