@@ -15,6 +15,7 @@
 #include "engine/pipeline.h"
 #include "nodes/curves/curves.h"
 #include "nodes/curves/sample_curves.h"
+#include "nodes/exchange/exchange.h"
 #include "nodes/surface/surface.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"

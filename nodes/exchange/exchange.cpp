@@ -1,5 +1,6 @@
 #include "nodes/exchange/exchange.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -48,28 +49,31 @@ PartBox bounds_of(const PartBoxes& boxes) {
 }
 
 // Every (i, j, R) map, equal maps merged (translation compared on a grid of `step`, the linear part to 1e-9).
-std::vector<BoxTransform> candidate_maps(const PartBoxes& source, const PartBoxes& target, double step) {
+std::vector<BoxTransform> candidate_maps(const PartBoxes& source, const PartBoxes& target, double step,
+                                         const std::vector<bool>& usable) {
   std::vector<BoxTransform> out;
   std::map<std::array<long long, 12>, int> seen;
   for (int i = 0; i < int(source.size()); ++i)
-    for (int j = 0; j < int(target.size()); ++j)
-      for (int r = 0; r < int(axis_rotations().size()); ++r) {
-        const BoxTransform t = box_transform(source[size_t(i)], i, target[size_t(j)], j, r);
-        std::array<long long, 12> key{};
-        const Eigen::Matrix3d L = t.linear();
-        for (int k = 0; k < 9; ++k) key[size_t(k)] = std::llround(L(k) * 1e9);
-        for (int k = 0; k < 3; ++k) key[size_t(9 + k)] = std::llround(t.translation(k) / step);
-        if (seen.emplace(key, int(out.size())).second) out.push_back(t);
-      }
+    if (usable[size_t(i)])
+      for (int j = 0; j < int(target.size()); ++j)
+        for (int r = 0; r < int(axis_rotations().size()); ++r) {
+          const BoxTransform t = box_transform(source[size_t(i)], i, target[size_t(j)], j, r);
+          std::array<long long, 12> key{};
+          const Eigen::Matrix3d L = t.linear();
+          for (int k = 0; k < 9; ++k) key[size_t(k)] = std::llround(L(k) * 1e9);
+          for (int k = 0; k < 3; ++k) key[size_t(9 + k)] = std::llround(t.translation(k) / step);
+          if (seen.emplace(key, int(out.size())).second) out.push_back(t);
+        }
   return out;
 }
 
 // For each map, per target box the source box it carries onto it (-1: none).
 std::vector<std::vector<int>> box_matches(const std::vector<BoxTransform>& maps, const PartBoxes& source,
-                                          const PartBoxes& target, double tolerance) {
+                                          const PartBoxes& target, double tolerance, const std::vector<bool>& usable) {
   std::vector<std::vector<int>> matches(maps.size(), std::vector<int>(target.size(), -1));
   for (size_t l = 0; l < maps.size(); ++l)
     for (int k = 0; k < int(source.size()); ++k) {
+      if (!usable[size_t(k)]) continue;
       const PartBox image = maps[l].apply(source[size_t(k)]);
       for (size_t j = 0; j < target.size(); ++j) {
         const double tol = tolerance * target[j].size().norm();
@@ -183,14 +187,18 @@ BoxSamples sample_boxes(const PartBoxes& boxes, double spacing) {
   return out;
 }
 
-BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, const ExchangeOptions& options) {
+BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, const ExchangeOptions& options,
+                             const std::vector<bool>& usable_boxes) {
   check_boxes(source, "the source");
   check_boxes(target, "the target");
+  const std::vector<bool> usable = usable_boxes.empty() ? std::vector<bool>(source.size(), true) : usable_boxes;
+  if (usable.size() != source.size() || std::find(usable.begin(), usable.end(), true) == usable.end())
+    throw InvariantError("no source box holds any of the exemplar");
   const double diagonal = bounds_of(target).size().norm();
   BoxAnalogy out;
   out.samples = sample_boxes(target, options.box_spacing * diagonal);
-  const std::vector<BoxTransform> maps = candidate_maps(source, target, 1e-6 * diagonal);
-  const auto matches = box_matches(maps, source, target, options.match_tolerance);
+  const std::vector<BoxTransform> maps = candidate_maps(source, target, 1e-6 * diagonal, usable);
+  const auto matches = box_matches(maps, source, target, options.match_tolerance, usable);
   out.candidates = Index(maps.size());
   const LabelingProblem problem = box_problem(out.samples, maps, matches, source, target, options);
   ExpansionOptions expansion;
@@ -242,9 +250,8 @@ std::vector<int> assign_parts(const Eigen::Matrix3Xd& points, const PartBoxes& b
   return part;
 }
 
-Exchange synthesize_exchange(const PointSet& exemplar, const PartBoxes& source, BoxAnalogy analogy) {
-  const std::vector<std::vector<Index>> members =
-      exemplar.has_faces() ? triangles_by_part(exemplar, source) : points_by_part(exemplar, source);
+Exchange synthesize_exchange(const PointSet& exemplar, const std::vector<std::vector<Index>>& members,
+                             BoxAnalogy analogy) {
   Exchange out;
   std::vector<Eigen::Vector3d> xyz, normals;
   std::vector<std::int32_t> faces;
@@ -278,7 +285,11 @@ Exchange synthesize_exchange(const PointSet& exemplar, const PartBoxes& source, 
 
 Exchange exchange_style(const PointSet& exemplar, const PartBoxes& source, const PartBoxes& target,
                         const ExchangeOptions& options) {
-  return synthesize_exchange(exemplar, source, label_box_analogy(source, target, options));
+  const std::vector<std::vector<Index>> members =
+      exemplar.has_faces() ? triangles_by_part(exemplar, source) : points_by_part(exemplar, source);
+  std::vector<bool> holds(source.size());
+  for (size_t k = 0; k < source.size(); ++k) holds[k] = !members[k].empty();
+  return synthesize_exchange(exemplar, members, label_box_analogy(source, target, options, holds));
 }
 
 }  // namespace scanfill

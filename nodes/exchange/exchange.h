@@ -29,23 +29,10 @@
 
 #include "nodes/core/point_set.h"
 #include "nodes/exchange/box_transform.h"
+#include "nodes/exchange/exchange_options.h"
 #include "nodes/exchange/part_box.h"
 
 namespace scanfill {
-
-struct ExchangeOptions {
-  // PLY vertex property holding each point's part (an integer; negative = no part); auto = the first present of
-  // part, part_id, segment, segment_id, label, scalar_part, scalar_label. Used when the config gives no boxes.
-  std::string part_property = "auto";
-  double box_spacing = 0.02;      // T's box samples: grid step, share of T's bounding-box diagonal; (0, 0.1]
-  double match_tolerance = 0.01;  // A(box k) explains box j when every corner is within this share of j's diagonal
-  double label_cost = 10;         // h of a transform (eq. 8), in unary units (a sample's unary is <= 1); >= 0
-  double rotation_cost = 1;       // weight of (1 - cos angle) / 2 in h; >= 0
-  double distortion_cost = 4;     // weight of the variance of log d_k (the stretch) in h; >= 0
-  double scale_cost = 1;          // weight of the squared mean of log d_k (the uniform scale) in h; >= 0
-  double smoothness = 1;          // Potts weight between neighbouring samples; >= 0
-  int max_cycles = 10;            // alpha-expansion sweeps; [1, 100]
-};
 
 // The PLY vertex properties that commonly hold a segmentation, in the order part_property auto tries them.
 const std::vector<std::string>& common_part_properties();
@@ -70,8 +57,11 @@ struct BoxAnalogy {
   bool converged = false;
 };
 
-// The box-wise analogy S -> T. Throws InvariantError for an empty or degenerate box list.
-BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, const ExchangeOptions& options);
+// The box-wise analogy S -> T; `usable`: per source box, whether maps may start from it (empty = all; a box that holds
+// none of the exemplar would carry nothing). Throws InvariantError for an empty or degenerate box list, or no usable
+// source box.
+BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, const ExchangeOptions& options,
+                             const std::vector<bool>& usable = {});
 
 struct Exchange {
   BoxAnalogy analogy;
@@ -93,9 +83,11 @@ std::vector<std::vector<Index>> triangles_by_part(const PointSet& exemplar, cons
 
 // The output: for every target box, the exemplar's points (or triangles) of the source box its map carries onto it,
 // moved by the map.
-Exchange synthesize_exchange(const PointSet& exemplar, const PartBoxes& source, BoxAnalogy analogy);
+// `members`: per source box, its points or triangles (points_by_part or triangles_by_part).
+Exchange synthesize_exchange(const PointSet& exemplar, const std::vector<std::vector<Index>>& members,
+                             BoxAnalogy analogy);
 
-// label_box_analogy, then synthesize_exchange.
+// label_box_analogy from the source boxes that hold some of the exemplar, then synthesize_exchange.
 Exchange exchange_style(const PointSet& exemplar, const PartBoxes& source, const PartBoxes& target,
                         const ExchangeOptions& options);
 

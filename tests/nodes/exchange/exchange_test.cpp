@@ -90,5 +90,15 @@ TEST(Exchange, SynthesisCarriesEachPartsPointsOntoItsTargetBox) {
   EXPECT_NEAR(x.output.normals().col(0).norm(), 1.0, 1e-12);
 }
 
+// A source box with none of the exemplar in it would carry nothing: maps start only from boxes that hold some.
+TEST(Exchange, ABoxWithoutExemplarPointsIsNoSource) {
+  const PartBoxes source{box(100, 100, 100, 101, 101, 101), box(0, 0, 0, 1, 1, 1)};  // equal sizes: a tie on cost
+  Eigen::Matrix3Xd p(3, 2);
+  p << 0.5, 0.25, 0.5, 0.25, 0.5, 0.25;
+  const Exchange x = exchange_style(PointSet(p), source, {box(5, 5, 5, 6, 6, 6)}, {});
+  EXPECT_EQ(x.analogy.box_source, std::vector<int>{1});
+  EXPECT_EQ(x.output.size(), 2);
+}
+
 }  // namespace
 }  // namespace scanfill
