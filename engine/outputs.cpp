@@ -460,7 +460,7 @@ RunOutcome write_exchange_outputs(RunState& state, Staging& staging) {
   std::ostringstream s;
   s << "scanfill: style exchange of " << exemplars.size() << " exemplars and " << targets.size()
     << " targets: " << pairs.size() << " outputs in " << state.config.output_dir.string() << "\n"
-    << "  output_EXEMPLAR__TARGET.ply: the exemplar's samples carried onto the target's boxes ('label' = the "
+    << "  output_EXEMPLAR__TARGET.ply: the exemplar carried onto the target's boxes, triangles and all ('label' = the "
        "transform, see report.json)\n"
     << "  analogy_EXEMPLAR__TARGET.ply: the target's box samples coloured by transform\n";
   for (const auto& p : pairs) {

@@ -142,6 +142,22 @@ std::vector<int> majority_per_box(const BoxSamples& samples, const std::vector<i
   return out;
 }
 
+// The labels used, renumbered in the order the target boxes first use them: per box its label and source box, per
+// sample its label.
+void record_labels(const std::vector<BoxTransform>& maps, const std::vector<std::vector<int>>& matches,
+                   const std::vector<int>& labeling, const std::vector<int>& box_labels, BoxAnalogy& out) {
+  std::map<int, int> renumber;
+  const auto number = [&](int l) {
+    if (renumber.emplace(l, int(out.transforms.size())).second) out.transforms.push_back(maps[size_t(l)]);
+    return renumber.at(l);
+  };
+  for (size_t j = 0; j < box_labels.size(); ++j) {
+    out.box_label.push_back(number(box_labels[j]));
+    out.box_source.push_back(matches[size_t(box_labels[j])][j]);
+  }
+  for (const int l : labeling) out.sample_label.push_back(number(l));
+}
+
 Eigen::Matrix3Xd to_matrix(const std::vector<Eigen::Vector3d>& v) {
   Eigen::Matrix3Xd m(3, Index(v.size()));
   for (size_t i = 0; i < v.size(); ++i) m.col(Index(i)) = v[i];
@@ -208,19 +224,7 @@ BoxAnalogy label_box_analogy(const PartBoxes& source, const PartBoxes& target, c
   out.energy_before = result.energy_before;
   out.energy_after = result.energy_after;
   out.converged = result.converged;
-  // The labels used, renumbered in the order the target boxes first use them.
-  const std::vector<int> chosen = majority_per_box(out.samples, result.labeling, target.size());
-  std::map<int, int> renumber;
-  for (size_t j = 0; j < target.size(); ++j) {
-    const int l = chosen[j];
-    if (renumber.emplace(l, int(out.transforms.size())).second) out.transforms.push_back(maps[size_t(l)]);
-    out.box_label.push_back(renumber.at(l));
-    out.box_source.push_back(matches[size_t(l)][j]);
-  }
-  for (const int l : result.labeling) {
-    if (renumber.emplace(l, int(out.transforms.size())).second) out.transforms.push_back(maps[size_t(l)]);
-    out.sample_label.push_back(renumber.at(l));
-  }
+  record_labels(maps, matches, result.labeling, majority_per_box(out.samples, result.labeling, target.size()), out);
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include "engine/config.h"
 #include "engine/console.h"
 #include "engine/pipeline.h"
+#include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/io/read_point_set.h"
 #include "nodes/io/write_ply.h"
@@ -104,6 +105,39 @@ TEST(ExchangeE2E, PartsFromAPlyPropertyAreTheLayoutsBoxes) {
   EXPECT_NEAR(boxes[0]["rotation_deg"].get<double>(), 90, 1e-9);
   EXPECT_EQ(boxes[1]["source_box"], 0);
   EXPECT_NEAR(boxes[1]["rotation_deg"].get<double>(), 0, 1e-9);
+}
+
+TEST(ExchangeE2E, SameBytesOnOneAndTwoThreads) {
+  setup_logging(false, true);
+  test::TempDir dir;
+  for (const char* threads : {"1", "2"})
+    run(load_config(test::source_dir() / "configs" / "exchange_castles.yaml",
+                    {"output.dir=" + (dir / threads).string(), std::string("threads=") + threads}));
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "1")) {
+    if (entry.path().filename() == "report.json") continue;  // holds wall times
+    EXPECT_EQ(test::read_bytes(entry.path()), test::read_bytes(dir / "2" / entry.path().filename())) << entry.path();
+  }
+}
+
+// Config errors of the exchange inputs, all in one message with their places.
+TEST(ExchangeE2E, InputProblemsAreReportedTogether) {
+  test::TempDir dir;
+  test::write_bytes(dir / "c.yaml",
+                    "mode: exchange\ninputs:\n  exemplar:\n    - {name: a, boxes: [[[0, 0, 0], [1, 1, 1]]]}\n"
+                    "    - procedural:vase\n  target:\n    - {name: t, boxes: [[[0, 0, 0], [1, 1, 1]]]}\n"
+                    "    - {name: t, boxes: [[[0, 0, 0], [1, 1]]], colour: red}\n");
+  try {
+    load_config(dir / "c.yaml");
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string m = e.what();
+    for (const char* part :
+         {"inputs.exemplar[0]: an exemplar needs its shape", "inputs.exemplar[1]: procedural:vase has no parts",
+          "inputs.target[1].colour: unknown key (valid: path, name, boxes)",
+          "inputs.target[1].boxes[0]: expected a box [[x, y, z], [x, y, z]]",
+          "inputs.target[1].name: 't' is also target[0]'s"})
+      EXPECT_NE(m.find(part), std::string::npos) << part << "\n" << m;
+  }
 }
 
 // Everything in `folder`, or nothing when it does not exist.
