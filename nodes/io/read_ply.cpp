@@ -526,6 +526,7 @@ PartLabels read_ply_part_labels(const std::filesystem::path& path, const std::ve
         if (n == out.property && !e.properties[k].is_list) label = int(k);
       }
       if (label < 0) io::fail(path, "vertex property '" + out.property + "' is a list, expected one integer");
+      if (std::min({xyz[0], xyz[1], xyz[2]}) < 0) io::fail(path, "PLY vertex element lacks x, y or z");
       started = true;
     }
     std::vector<double> values(e.properties.size());

@@ -169,6 +169,17 @@ TEST(ExchangeE2E, BadPartsAreRefusedWithOneLineAndNoOutput) {
                  "c.yaml:6:39: inputs.target[0].boxes[1]: a box with zero volume: [[0, 0, 0], [2, 0, 3]]");
   expect_refused(dir, "  exemplar: procedural:castle_keep_a\n  target:\n    - name: empty\n      boxes: []\n",
                  "inputs.target[0].boxes: no parts: expected at least one box");
+  // A part property on vertices without z, and parts that are all "no part": refused, not read out of bounds.
+  test::write_bytes(dir / "noz.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                    "property int part\nend_header\n0 0 1\n");
+  expect_refused(dir, "  exemplar: procedural:castle_keep_a\n  target: noz.ply\n",
+                 "noz.ply: PLY vertex element lacks x, y or z");
+  test::write_bytes(dir / "none.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                    "property float z\nproperty int part\nend_header\n0 0 0 -1\n");
+  expect_refused(dir, "  exemplar: procedural:castle_keep_a\n  target: none.ply\n",
+                 "gives no part (every label is negative)");
   // The property named by exchange.part_property, absent: named with the file.
   test::write_bytes(dir / "c.yaml", "");
   expect_refused(dir, "  exemplar: plain.ply\n  target: procedural:castle_gate\nexchange:\n  part_property: region\n",
