@@ -8,6 +8,7 @@
 
 #include "engine/fields.h"
 #include "nodes/core/errors.h"
+#include "nodes/procedural/castle.h"
 #include "nodes/procedural/shapes.h"
 
 namespace scanfill {
@@ -167,6 +168,8 @@ void read_field(const YAML::Node& n, const std::string& key, Field& field, Probl
             if (ok) p->push_back(l);
           }
           if (!ok) bad("a list of landmark pairs [[x, y, z], [x, y, z]] (exemplar point, source point)");
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          if (!scalar_as(n, *p) || p->empty()) bad("a name");
         } else if constexpr (std::is_same_v<T, LandmarkFiles>) {
           std::string exemplar, source;
           if (n.IsNull() || (n.IsSequence() && n.size() == 0)) {
@@ -225,7 +228,8 @@ const std::vector<std::pair<std::string, RunMode>>& mode_names() {
   static const std::vector<std::pair<std::string, RunMode>> modes{{"completion", RunMode::kCompletion},
                                                                   {"transfer", RunMode::kTransfer},
                                                                   {"analogy", RunMode::kAnalogy},
-                                                                  {"curves", RunMode::kCurves}};
+                                                                  {"curves", RunMode::kCurves},
+                                                                  {"exchange", RunMode::kExchange}};
   return modes;
 }
 
@@ -243,8 +247,11 @@ std::string role_name(Role role) {
 
 const std::vector<Role>& roles_for_mode(RunMode mode) {
   static const std::vector<Role> completion{Role::kScan, Role::kTemplate},
-      transfer{Role::kSource, Role::kTarget, Role::kExemplar}, analogy{Role::kSource, Role::kTarget};
+      transfer{Role::kSource, Role::kTarget, Role::kExemplar}, analogy{Role::kSource, Role::kTarget},
+      exchange{Role::kExemplar, Role::kTarget};
   switch (mode) {
+    case RunMode::kExchange:
+      return exchange;
     case RunMode::kCompletion:
       return completion;
     case RunMode::kTransfer:
@@ -271,9 +278,17 @@ const std::vector<std::pair<std::string, ColourChoice>>& colour_choice_names() {
 }
 
 bool makes_surface(const RunConfig& config) {
-  if (config.mode == RunMode::kAnalogy || config.mode == RunMode::kCurves) return false;
+  if (config.mode == RunMode::kAnalogy || config.mode == RunMode::kCurves || config.mode == RunMode::kExchange)
+    return false;
   if (config.output_surface == SurfaceChoice::kAuto) return config.mode == RunMode::kCompletion;
   return config.output_surface == SurfaceChoice::kPoisson;
+}
+
+std::vector<const Input*> inputs_for(const RunConfig& config, Role role) {
+  std::vector<const Input*> out;
+  for (const Input& input : config.inputs)
+    if (input.role == role) out.push_back(&input);
+  return out;
 }
 
 const Input& input_for(const RunConfig& config, Role role) {
@@ -281,6 +296,64 @@ const Input& input_for(const RunConfig& config, Role role) {
     if (input.role == role) return input;
   throw InvariantError("no input '" + role_name(role) + "' in mode " + mode_name(config.mode));
 }
+
+namespace {
+
+std::string box_text(const PartBox& b) {
+  std::ostringstream s;
+  s << "[[" << b.min.x() << ", " << b.min.y() << ", " << b.min.z() << "], [" << b.max.x() << ", " << b.max.y() << ", "
+    << b.max.z() << "]]";
+  return s.str();
+}
+
+// Where an exchange input's parts come from when the config gives no boxes: a castle's layout, or a PLY's part
+// property; nothing else has them.
+std::optional<std::string> check_part_source(const Input& input) {
+  if (!input.spec.procedural.empty())
+    return castle_part_boxes(input.spec.procedural)
+               ? std::nullopt
+               : std::optional<std::string>("procedural:" + input.spec.procedural +
+                                            " has no parts: give its boxes (boxes: [[[x, y, z], [x, y, z]], ...])");
+  if (input.spec.revolution || input.spec.path.extension() != ".ply")
+    return input_name(input.spec) + ": parts come from a PLY's per-vertex part property or from boxes in the config";
+  return std::nullopt;
+}
+
+// Mode exchange: every exemplar and target, named once, each with a shape or parts it can have.
+void validate_exchange(const RunConfig& config, std::vector<std::pair<std::string, std::string>>& problems) {
+  for (const Role role : {Role::kExemplar, Role::kTarget}) {
+    const std::vector<const Input*> inputs = inputs_for(config, role);
+    if (inputs.empty())
+      problems.push_back({"inputs", "mode 'exchange' needs at least one " + role_name(role) +
+                                        " (inputs: exemplar, "
+                                        "target, each a list)"});
+    std::map<std::string, size_t> names;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const Input& in = *inputs[i];
+      const std::string key = "inputs." + role_name(role) + "[" + std::to_string(i) + "]";
+      if (!in.spec.text.empty()) {
+        if (const auto problem = check_input(in.spec)) problems.push_back({key, *problem});
+      } else if (role == Role::kExemplar) {
+        problems.push_back({key, "an exemplar needs its shape: path: FILE or procedural:NAME"});
+      }
+      if (!in.boxes && in.spec.text.empty())
+        problems.push_back({key, "a target needs its parts: boxes: [[[x, y, z], [x, y, z]], ...] or a path"});
+      else if (!in.boxes)
+        if (const auto problem = check_part_source(in)) problems.push_back({key, *problem});
+      if (in.boxes && in.boxes->empty()) problems.push_back({key + ".boxes", "no parts: expected at least one box"});
+      for (size_t b = 0; in.boxes && b < in.boxes->size(); ++b)
+        if (!((*in.boxes)[b].size().array() > 0).all())
+          problems.push_back(
+              {key + ".boxes[" + std::to_string(b) + "]",
+               "a box with zero volume: " + box_text((*in.boxes)[b]) + " (expected min < max on x, y, z)"});
+      if (const auto [it, fresh] = names.emplace(in.name, i); !fresh)
+        problems.push_back({key + ".name", "'" + in.name + "' is also " + role_name(role) + "[" +
+                                               std::to_string(it->second) + "]'s: give each its own name"});
+    }
+  }
+}
+
+}  // namespace
 
 std::vector<std::pair<std::string, std::string>> validate(const RunConfig& config) {
   std::vector<std::pair<std::string, std::string>> problems;
@@ -301,6 +374,12 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
     problems.push_back({"output.surface", "mode analogy writes no output.ply to mesh: expected auto or none"});
   if (config.mode == RunMode::kCurves && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode curves writes curves, not a surface: expected auto or none"});
+  if (config.mode == RunMode::kExchange) {
+    if (config.output_surface == SurfaceChoice::kPoisson)
+      problems.push_back({"output.surface", "mode exchange writes points: expected auto or none"});
+    validate_exchange(config, problems);
+    return problems;
+  }
   std::vector<std::string> roles;
   for (const Role role : roles_for_mode(config.mode)) roles.push_back(role_name(role));
   for (const Role role : roles_for_mode(config.mode)) {
@@ -425,6 +504,94 @@ std::vector<std::string> input_texts(const YAML::Node& n, const std::string& key
   return {};
 }
 
+// A box [[x, y, z], [x, y, z]] (its min and max corners); false when malformed.
+bool read_box(const YAML::Node& n, PartBox& box) {
+  bool ok = n.IsSequence() && n.size() == 2;
+  for (int c = 0; ok && c < 2; ++c) {
+    ok = n[c].IsSequence() && n[c].size() == 3;
+    for (int k = 0; ok && k < 3; ++k)
+      ok = scalar_as(n[c][k], (c == 0 ? box.min : box.max)(k)) && std::isfinite((c == 0 ? box.min : box.max)(k));
+  }
+  return ok;
+}
+
+// A name for output files: letters, digits, '.', '-' and '_'.
+bool file_safe(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_';
+  });
+}
+
+// The default name of an exchange input: its procedural name or file stem, made file-safe.
+std::string default_name(const InputSpec& spec, const std::string& fallback) {
+  std::string name = !spec.procedural.empty() ? spec.procedural : spec.path.stem().string();
+  for (char& c : name)
+    if (!file_safe(std::string(1, c))) c = '_';
+  return name.empty() ? fallback : name;
+}
+
+// One exchange input: FILE | procedural:NAME | {path: ..., name: ..., boxes: [[[x, y, z], [x, y, z]], ...]}.
+void read_exchange_entry(const YAML::Node& n, const std::string& key, Role role, size_t index,
+                         const std::filesystem::path& path, RunConfig& config, Problems& problems) {
+  problems.remember(key, n.Mark());
+  Input input{role, {}, {}, {}, std::nullopt};
+  std::string text;
+  if (scalar_as(n, text) && !text.empty()) {
+    input.spec = parse_input(text, path.parent_path());
+  } else if (n.IsMap() && check_map(n, key, {"path", "name", "boxes"}, problems)) {
+    if (const YAML::Node p = n["path"]) {
+      if (scalar_as(p, text) && !text.empty())
+        input.spec = parse_input(text, path.parent_path());
+      else
+        problems.add(p.Mark(), key + ".path", "expected a file path or procedural:NAME, got " + describe(p));
+    }
+    if (const YAML::Node nm = n["name"]) {
+      if (!scalar_as(nm, input.name) || !file_safe(input.name))
+        problems.add(nm.Mark(), key + ".name",
+                     "expected a name of letters, digits, '.', '-', '_', got " + describe(nm));
+    }
+    if (const YAML::Node b = n["boxes"]) {
+      problems.remember(key + ".boxes", b.Mark());
+      input.boxes = PartBoxes{};
+      if (!b.IsSequence())
+        problems.add(b.Mark(), key + ".boxes", "expected a list of boxes [[x, y, z], [x, y, z]], got " + describe(b));
+      for (size_t i = 0; b.IsSequence() && i < b.size(); ++i) {
+        const std::string box_key = key + ".boxes[" + std::to_string(i) + "]";
+        problems.remember(box_key, b[i].Mark());
+        PartBox box;
+        if (read_box(b[i], box))
+          input.boxes->push_back(box);
+        else
+          problems.add(b[i].Mark(), box_key,
+                       "expected a box [[x, y, z], [x, y, z]] (min and max corners), got " + describe(b[i]));
+      }
+    }
+  } else {
+    if (!n.IsMap())
+      problems.add(n.Mark(), key, "expected a file path, procedural:NAME or {path, name, boxes}, got " + describe(n));
+    return;
+  }
+  if (input.name.empty()) input.name = default_name(input.spec, role_name(role) + std::to_string(index));
+  problems.remember(key + ".name", n.Mark());
+  config.inputs.push_back(std::move(input));
+}
+
+// Mode exchange: inputs.exemplar and inputs.target, each one entry or a list of them.
+void read_exchange_inputs(const YAML::Node& n, const std::filesystem::path& path, RunConfig& config,
+                          Problems& problems) {
+  for (const Role role : {Role::kExemplar, Role::kTarget}) {
+    const YAML::Node list = n[role_name(role)];
+    if (!list) continue;
+    const std::string key = "inputs." + role_name(role);
+    if (!list.IsSequence()) {
+      read_exchange_entry(list, key + "[0]", role, 0, path, config, problems);
+      continue;
+    }
+    for (size_t i = 0; i < list.size(); ++i)
+      read_exchange_entry(list[i], key + "[" + std::to_string(i) + "]", role, i, path, config, problems);
+  }
+}
+
 void read_inputs(const YAML::Node& root, bool mode_known, const std::filesystem::path& path, RunConfig& config,
                  Problems& problems) {
   const YAML::Node n = root["inputs"];
@@ -439,6 +606,7 @@ void read_inputs(const YAML::Node& root, bool mode_known, const std::filesystem:
   else
     for (const auto& [name, role] : role_names()) valid.push_back(name);
   if (!check_map(n, "inputs", valid, problems)) return;
+  if (mode_known && config.mode == RunMode::kExchange) return read_exchange_inputs(n, path, config, problems);
   for (auto it = n.begin(); it != n.end(); ++it) {
     if (!it->first.IsScalar()) continue;  // reported by check_map
     const std::string name = it->first.as<std::string>();
@@ -446,7 +614,7 @@ void read_inputs(const YAML::Node& root, bool mode_known, const std::filesystem:
     if (!mode_known || role == valid.end()) continue;
     const std::string key = "inputs." + name;
     problems.remember(key, it->second.Mark());
-    Input input{roles_for_mode(config.mode)[size_t(role - valid.begin())], {}, {}};
+    Input input{roles_for_mode(config.mode)[size_t(role - valid.begin())], {}, {}, {}, std::nullopt};
     const std::vector<std::string> texts = input_texts(it->second, key, takes_fragments(input.role), problems);
     if (texts.empty()) continue;
     input.spec = parse_input(texts[0], path.parent_path());
@@ -570,6 +738,10 @@ std::string default_config_yaml() {
     << "                            # or revolution:FILE (the body of revolution of a model about its own axis),\n"
     << "                            # or box:FILE (a model's axis-aligned bounding box): plain templates\n"
     << "                            # scan and exemplar may be a list of fragments, registered together\n"
+    << "                            # exchange: exemplar and target, each a list of entries FILE, procedural:NAME\n"
+    << "                            # or {path: FILE, name: NAME, boxes: [[[x, y, z], [x, y, z]], ...]}: the parts\n"
+    << "                            # as boxes (min, max corners), else a PLY's exchange.part_property, else a\n"
+    << "                            # castle's layout; a target may be boxes alone. One output per pair.\n"
     << "  scan: procedural:vase\n"
     << "  template: procedural:vase_template\n"
     << "output:\n"

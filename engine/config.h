@@ -8,12 +8,15 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "nodes/align/align.h"
 #include "nodes/correspond/correspond.h"
 #include "nodes/curves/sample_curves.h"
+#include "nodes/exchange/exchange_options.h"
+#include "nodes/exchange/part_box.h"
 #include "nodes/features/estimate_features.h"
 #include "nodes/input/input.h"
 #include "nodes/label/label.h"
@@ -29,10 +32,10 @@
 namespace scanfill {
 
 // What a run makes (DESIGN section 1); each mode has its own graph builder (pipeline.cpp).
-enum class RunMode { kCompletion, kTransfer, kAnalogy, kCurves };
+enum class RunMode { kCompletion, kTransfer, kAnalogy, kCurves, kExchange };
 
 // The part an input plays: completion takes scan + template, transfer and curves source + target + exemplar, analogy
-// source + target.
+// source + target, exchange one or more exemplars and targets.
 enum class Role { kScan, kTemplate, kSource, kTarget, kExemplar };
 
 // One input of the run: its role and what the config wrote for it (a file, procedural:NAME, revolution:...).
@@ -40,6 +43,11 @@ struct Input {
   Role role = Role::kScan;
   InputSpec spec;
   std::vector<InputSpec> fragments;  // further fragments of a scan or exemplar given as a list (after `spec`)
+  // Mode exchange: the input's name in output file names, and its parts as boxes when the config gives them (else
+  // from a per-vertex part property of its PLY, or a procedural castle's layout). A target may be boxes alone
+  // (spec.text empty).
+  std::string name;
+  std::optional<PartBoxes> boxes;
 };
 
 // Whether an input of this role may be a list of fragments (scan and exemplar: the paper's vase, Figure 13, was
@@ -85,6 +93,7 @@ struct RunConfig {
   VirtualScanOptions virtual_scan;
   SurfaceOptions surface;
   CurveSampleOptions curves;          // mode curves: the drawings' samples and the output's polylines
+  ExchangeOptions exchange;           // mode exchange: part boxes and the box-wise analogy
   std::filesystem::path config_path;  // the file it was read from
 };
 
@@ -98,6 +107,9 @@ bool makes_surface(const RunConfig& config);
 
 // Roles each mode requires, in order.
 const std::vector<Role>& roles_for_mode(RunMode mode);
+
+// Every input playing `role`, in config order (mode exchange has several exemplars and targets).
+std::vector<const Input*> inputs_for(const RunConfig& config, Role role);
 
 // The input playing `role`; throws InvariantError when the config has none.
 const Input& input_for(const RunConfig& config, Role role);

@@ -3,6 +3,7 @@
 #include "nodes/align/align_options.h"
 #include "nodes/correspond/correspond_options.h"
 #include "nodes/curves/curves_options.h"
+#include "nodes/exchange/exchange_options.h"
 #include "nodes/features/features_options.h"
 #include "nodes/io/load_options.h"
 #include "nodes/label/label_options.h"
@@ -38,7 +39,7 @@ std::vector<Section> option_sections(RunConfig& c) {
   return {option_table(c.load),    option_table(c.sample),     option_table(c.features), option_table(c.vote),
           option_table(c.modes),   option_table(c.support),    option_table(c.symmetry), option_table(c.label),
           std::move(correspond),   option_table(c.synthesize), option_table(c.align),    option_table(c.virtual_scan),
-          option_table(c.surface), option_table(c.curves)};
+          option_table(c.surface), option_table(c.curves),     option_table(c.exchange)};
 }
 
 void use_paper_parameters(RunConfig& config) {

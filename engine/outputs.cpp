@@ -354,6 +354,127 @@ nlohmann::json symmetry_json(const Labelled& a) {
           {"composed_candidates", a.supports->composed}};
 }
 
+// Mode exchange: a part box as the report writes it.
+nlohmann::json box_json(const PartBox& b) {
+  return nlohmann::json::array({json_vec(b.min), json_vec(b.max)});
+}
+
+nlohmann::json parts_json(const Parts& p) {
+  nlohmann::json boxes = nlohmann::json::array();
+  for (const PartBox& b : p.boxes) boxes.push_back(box_json(b));
+  nlohmann::json out = {{"name", p.input.name},
+                        {"path", p.input.spec.text.empty() ? "" : input_name(p.input.spec)},
+                        {"parts_from", p.from},
+                        {"boxes", boxes}};
+  if (!p.part_labels.empty()) out["part_labels"] = p.part_labels;
+  return out;
+}
+
+nlohmann::json box_transform_json(int label, const BoxTransform& t) {
+  return {{"label", label},
+          {"source_box", t.source_box},
+          {"rotation", rotation_json(t.rotation_matrix)},
+          {"rotation_deg", t.angle() * 180 / M_PI},
+          {"scales", json_vec(t.scales)},
+          {"translation", json_vec(t.translation)}};
+}
+
+// Points coloured by label, with `label` (and `origin` 1 = synthesised, for output points) as PLY properties.
+void write_labelled_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<int>& labels,
+                        bool with_origin) {
+  Matrix3Xu8 rgb(3, points.size());
+  for (Index i = 0; i < points.size(); ++i) {
+    const auto c = label_colour(labels[size_t(i)], -1);
+    for (int k = 0; k < 3; ++k) rgb(k, i) = std::uint8_t(c[size_t(k)]);
+  }
+  PointSet coloured = points;
+  coloured.set_colours(std::move(rgb));
+  std::vector<PlyProperty> extra;
+  if (with_origin) extra.push_back({"origin", PlyProperty::Type::kUint8, std::vector<double>(labels.size(), 1.0)});
+  extra.push_back({"label", PlyProperty::Type::kInt32, std::vector<double>(labels.begin(), labels.end())});
+  write_ply(path, coloured, extra);
+}
+
+// One pair: output_E__T.ply, analogy_E__T.ply and its report entry.
+nlohmann::json write_exchange_pair(const RunState& state, const Exchanged& x, RunOutcome& outcome) {
+  const std::string stem = x.exemplar_parts->input.name + "__" + x.target_parts->input.name;
+  const BoxAnalogy& a = x.exchange.analogy;
+  const std::filesystem::path output = state.write_dir / ("output_" + stem + ".ply"),
+                              analogy = state.write_dir / ("analogy_" + stem + ".ply");
+  write_labelled_ply(output, x.exchange.output, x.exchange.output_label, true);
+  write_labelled_ply(analogy, a.samples.points, a.sample_label, false);
+  outcome.outputs.push_back(output);
+  outcome.outputs.push_back(analogy);
+  nlohmann::json transforms = nlohmann::json::array(), boxes = nlohmann::json::array();
+  for (size_t l = 0; l < a.transforms.size(); ++l) transforms.push_back(box_transform_json(int(l), a.transforms[l]));
+  for (size_t j = 0; j < a.box_label.size(); ++j)
+    boxes.push_back({{"target_box", j},
+                     {"box", box_json(x.target_parts->boxes[j])},
+                     {"label", a.box_label[j]},
+                     {"source_box", a.box_source[j]},
+                     {"rotation_deg", a.transforms[size_t(a.box_label[j])].angle() * 180 / M_PI},
+                     {"scales", json_vec(a.transforms[size_t(a.box_label[j])].scales)}});
+  return {{"exemplar", x.exemplar_parts->input.name},
+          {"target", x.target_parts->input.name},
+          {"output", output.filename().string()},
+          {"analogy", analogy.filename().string()},
+          {"exemplar_points", x.exemplar->load.points.size()},
+          {"exemplar_faces", x.exemplar->load.points.faces().cols()},
+          {"output_points", x.exchange.output.size()},
+          {"output_faces", x.exchange.output.faces().cols()},
+          {"target_samples", a.samples.points.size()},
+          {"candidates", a.candidates},
+          {"transforms", transforms},
+          {"target_boxes", boxes},
+          {"energy", {{"before", a.energy_before}, {"after", a.energy_after}}}};
+}
+
+// Mode exchange: every pair's files, then report.json: inputs with their boxes, pairs with their box-wise analogy.
+RunOutcome write_exchange_outputs(RunState& state, Staging& staging) {
+  RunOutcome outcome;
+  const auto t0 = std::chrono::steady_clock::now();
+  nlohmann::json exemplars = nlohmann::json::array(), targets = nlohmann::json::array(),
+                 pairs = nlohmann::json::array();
+  const std::vector<ExchangedPtr> exchanges = state.exchanges();
+  const size_t n_targets = inputs_for(state.config, Role::kTarget).size();
+  for (const ExchangedPtr& x : exchanges) {
+    pairs.push_back(write_exchange_pair(state, *x, outcome));
+    if (x->pair % n_targets == 0) exemplars.push_back(parts_json(*x->exemplar_parts));
+    if (x->pair < n_targets) targets.push_back(parts_json(*x->target_parts));
+  }
+  state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  nlohmann::json node_list = nlohmann::json::array();
+  for (const auto& t : state.timings()) node_list.push_back({{"name", t.name}, {"wall_s", t.wall_s}});
+  const nlohmann::json report = {{"mode", "exchange"},
+                                 {"inputs", {{"exemplars", exemplars}, {"targets", targets}}},
+                                 {"pairs", pairs},
+                                 {"nodes", node_list},
+                                 {"peak_rss_mb", peak_rss_mb()},
+                                 {"warnings", state.warnings()}};
+  const std::filesystem::path report_path = state.write_dir / "report.json";
+  write_file_atomic(report_path, report.dump(2) + "\n");
+  outcome.outputs.push_back(report_path);
+  std::vector<std::string> names;
+  for (const auto& out : outcome.outputs) names.push_back(out.filename().string());
+  outcome.outputs = staging.commit(names);
+  std::ostringstream s;
+  s << "scanfill: style exchange of " << exemplars.size() << " exemplars and " << targets.size()
+    << " targets: " << pairs.size() << " outputs in " << state.config.output_dir.string() << "\n"
+    << "  output_EXEMPLAR__TARGET.ply: the exemplar carried onto the target's boxes, triangles and all ('label' = the "
+       "transform, see report.json)\n"
+    << "  analogy_EXEMPLAR__TARGET.ply: the target's box samples coloured by transform\n";
+  for (const auto& p : pairs) {
+    s << "  " << p["exemplar"].get<std::string>() << " -> " << p["target"].get<std::string>() << ":";
+    for (const auto& b : p["target_boxes"])
+      s << " " << b["target_box"].get<int>() << "<-" << b["source_box"].get<int>();
+    s << " (target box <- exemplar box)\n";
+  }
+  outcome.summary = s.str();
+  outcome.nodes = state.timings();
+  outcome.warnings = state.warnings();
+  return outcome;
+}
+
 // The summary's line for output_mesh.ply, empty without one.
 std::string surface_line(const nlohmann::json& report) {
   if (!report.contains("surface")) return "";
@@ -424,6 +545,7 @@ void write_output_ply(const std::filesystem::path& path, const TransferResult& o
 
 RunOutcome write_outputs(RunState& state, Staging& staging) {
   const RunConfig& config = state.config;
+  if (config.mode == RunMode::kExchange) return write_exchange_outputs(state, staging);
   RunOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};

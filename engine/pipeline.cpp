@@ -202,6 +202,39 @@ void build_analogy(Wiring& w) {
   add_analogy(w, source, target);
 }
 
+// Mode exchange, one input's parts: its boxes, from the config, a castle's layout or its PLY.
+flow::sender<PartsPtr>& add_parts(Wiring& w, const Input& input) {
+  auto& parts =
+      w.node<flow::continue_msg, PartsPtr>([&w, &input](flow::continue_msg) { return parts_stage(w.state, input); });
+  flow::make_edge(w.start, parts);
+  return parts;
+}
+
+// Mode exchange (paper section 7, Figure 14): per exemplar load, and its parts (S); per target its parts (T); per
+// exemplar/target pair, exchange: the box-wise analogy S -> T applied to the whole exemplar (no sampling: the maps are
+// found on the boxes alone and carry every point or triangle).
+void build_exchange(Wiring& w) {
+  using Exemplar = std::tuple<LoadedPtr, PartsPtr>;
+  std::vector<flow::sender<Exemplar>*> exemplars;
+  for (const Input* e : inputs_for(w.state.config, Role::kExemplar)) {
+    auto& load = w.node<flow::continue_msg, LoadedPtr>([&w, e](flow::continue_msg) { return load_stage(w.state, *e); });
+    flow::make_edge(w.start, load);
+    exemplars.push_back(&w.join(load, add_parts(w, *e)));
+  }
+  const std::vector<const Input*> targets = inputs_for(w.state.config, Role::kTarget);
+  for (size_t t = 0; t < targets.size(); ++t) {
+    flow::sender<PartsPtr>& target = add_parts(w, *targets[t]);
+    for (size_t e = 0; e < exemplars.size(); ++e) {
+      auto& exchange =
+          w.node<std::tuple<Exemplar, PartsPtr>, ExchangedPtr>([&w, pair = e * targets.size() + t](const auto& in) {
+            const Exemplar& ex = std::get<0>(in);
+            return exchange_stage(w.state, std::get<0>(ex), std::get<1>(ex), std::get<1>(in), pair);
+          });
+      flow::make_edge(w.join(*exemplars[e], target), exchange);
+    }
+  }
+}
+
 }  // namespace
 
 double peak_rss_mb() {
@@ -226,6 +259,9 @@ void run_graph(RunState& state) {
       break;
     case RunMode::kCurves:
       build_curves(w);
+      break;
+    case RunMode::kExchange:
+      build_exchange(w);
       break;
   }
   w.run();

@@ -6,6 +6,8 @@
 #include "engine/console.h"
 #include "engine/fields.h"
 #include "nodes/core/errors.h"
+#include "nodes/io/read_part_labels.h"
+#include "nodes/procedural/castle.h"
 #include "nodes/scan/virtual_scan.h"
 
 namespace scanfill {
@@ -46,6 +48,17 @@ void RunState::keep(TransferredPtr t) {
 void RunState::keep(DrawnPtr d) {
   std::lock_guard<std::mutex> lock(mutex_);
   drawing_ = std::move(d);
+}
+
+void RunState::keep(ExchangedPtr e) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  exchanges_.push_back(std::move(e));
+}
+
+std::vector<ExchangedPtr> RunState::exchanges() const {
+  std::vector<ExchangedPtr> out = exchanges_;
+  std::sort(out.begin(), out.end(), [](const ExchangedPtr& a, const ExchangedPtr& b) { return a->pair < b->pair; });
+  return out;
 }
 
 void RunState::keep(SurfacedPtr s) {
@@ -435,6 +448,65 @@ SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
         state.config.surface.trim_distance);
     state.keep(out);
     return SurfacedPtr(std::move(out));
+  });
+}
+
+namespace {
+
+// The part property names to look for: the configured one, or the common ones when it is auto.
+std::vector<std::string> part_property_names(const std::string& configured) {
+  if (configured != "auto") return {configured};
+  return common_part_properties();
+}
+
+// An input's boxes from its PLY's part property; InputError naming the file when it gives none or a flat one.
+Parts parts_from_ply(const Input& input, const std::string& property) {
+  const PartLabels labels = read_ply_part_labels(input.spec.path, part_property_names(property));
+  Parts parts{input, {}, "PLY vertex property '" + labels.property + "'", {}};
+  parts.boxes = boxes_of_parts(labels.positions, labels.labels, parts.part_labels);
+  const std::string subject = input.spec.path.string() + ": vertex property '" + labels.property + "'";
+  if (parts.boxes.empty()) throw InputError(subject + " gives no part (every label is negative)");
+  for (size_t b = 0; b < parts.boxes.size(); ++b)
+    if (!(parts.boxes[b].size().array() > 0).all())
+      throw InputError(subject + ": part " + std::to_string(parts.part_labels[b]) +
+                       " is flat (its bounding box has zero volume): every part needs a box with volume");
+  return parts;
+}
+
+}  // namespace
+
+PartsPtr parts_stage(RunState& state, const Input& input) {
+  const std::string name = "parts:" + role_name(input.role) + ":" + input.name;
+  return run_node(state, name, input.spec.text.empty() ? input.name : input_name(input.spec), [&](const ProgressFn&) {
+    Parts parts;
+    if (input.boxes)
+      parts = Parts{input, *input.boxes, "config boxes", {}};
+    else if (!input.spec.procedural.empty())
+      parts = Parts{input, castle_part_boxes(input.spec.procedural).value(), "procedural layout", {}};
+    else
+      parts = parts_from_ply(input, state.config.exchange.part_property);
+    node_logger("parts")->info("{} {}: {} part boxes from {}", role_name(input.role), input.name, parts.boxes.size(),
+                               parts.from);
+    return PartsPtr(std::make_shared<const Parts>(std::move(parts)));
+  });
+}
+
+ExchangedPtr exchange_stage(RunState& state, const LoadedPtr& exemplar, const PartsPtr& exemplar_parts,
+                            const PartsPtr& target_parts, size_t pair) {
+  const std::string name = "exchange:" + exemplar_parts->input.name + ":" + target_parts->input.name;
+  return run_node(state, name, "", [&](const ProgressFn&) {
+    auto out = std::make_shared<Exchanged>(Exchanged{
+        exemplar, exemplar_parts, target_parts, pair,
+        exchange_style(exemplar->load.points, exemplar_parts->boxes, target_parts->boxes, state.config.exchange)});
+    const BoxAnalogy& a = out->exchange.analogy;
+    node_logger("exchange")
+        ->info("{} -> {}: {} candidate maps, {} used on {} target boxes, energy {:.4g} -> {:.4g}, {} output points",
+               exemplar_parts->input.name, target_parts->input.name, a.candidates, a.transforms.size(),
+               a.box_label.size(), a.energy_before, a.energy_after, out->exchange.output.size());
+    if (!a.converged) state.warn(name, "alpha-expansion stopped at exchange.max_cycles before converging");
+    ExchangedPtr done(std::move(out));
+    state.keep(done);
+    return done;
   });
 }
 

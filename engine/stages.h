@@ -15,6 +15,7 @@
 #include "engine/pipeline.h"
 #include "nodes/curves/curves.h"
 #include "nodes/curves/sample_curves.h"
+#include "nodes/exchange/exchange.h"
 #include "nodes/surface/surface.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"
@@ -128,6 +129,23 @@ struct Surfaced {
 };
 using SurfacedPtr = std::shared_ptr<const Surfaced>;
 
+// Mode exchange: an input's part boxes (from the config, a castle's layout or a PLY's part property), and one
+// exemplar/target pair's exchange.
+struct Parts {
+  Input input;
+  PartBoxes boxes;
+  std::string from;              // where the boxes came from, for the report
+  std::vector<int> part_labels;  // per box, the PLY's label (empty otherwise)
+};
+using PartsPtr = std::shared_ptr<const Parts>;
+struct Exchanged {
+  LoadedPtr exemplar;  // carried at full resolution: a mesh's triangles, a cloud's points
+  PartsPtr exemplar_parts, target_parts;
+  size_t pair = 0;  // exemplar index x targets + target index: the report's order
+  Exchange exchange;
+};
+using ExchangedPtr = std::shared_ptr<const Exchanged>;
+
 // What a run's nodes share with the engine: the config, timings, warnings and, for the writer, every input's features
 // and the last message of the graph.
 class RunState {
@@ -145,6 +163,7 @@ class RunState {
   void keep(TransferredPtr t);
   void keep(SurfacedPtr s);
   void keep(DrawnPtr d);
+  void keep(ExchangedPtr e);
 
   // After the graph has run.
   const std::vector<NodeTiming>& timings() const { return timings_; }
@@ -155,6 +174,7 @@ class RunState {
   const TransferredPtr& output() const { return output_; }
   const SurfacedPtr& surface() const { return surface_; }  // null unless output.surface made one
   const DrawnPtr& drawing() const { return drawing_; }     // mode curves only
+  std::vector<ExchangedPtr> exchanges() const;             // mode exchange: every pair, in pair order
 
  private:
   std::mutex mutex_;
@@ -166,6 +186,7 @@ class RunState {
   TransferredPtr output_;
   SurfacedPtr surface_;
   DrawnPtr drawing_;
+  std::vector<ExchangedPtr> exchanges_;
 };
 
 // An input as the run loads it: its fragments merged; completion's scan through the virtual scanner when configured.
@@ -197,6 +218,11 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in);
 SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in);
 // Mode curves: the output points ordered into polylines along the target's curves.
 DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);
+
+// Mode exchange: an input's part boxes; one pair's box-wise analogy and synthesis.
+PartsPtr parts_stage(RunState& state, const Input& input);
+ExchangedPtr exchange_stage(RunState& state, const LoadedPtr& exemplar, const PartsPtr& exemplar_parts,
+                            const PartsPtr& target_parts, size_t pair);
 
 // Builds and runs the graph of state.config.mode (pipeline.cpp); with state.plan_only it ends at the plan node.
 void run_graph(RunState& state);

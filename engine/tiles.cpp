@@ -15,9 +15,9 @@ namespace {
 
 // The input the transfer carries: completion's scan, transfer's exemplar.
 const Input& exemplar_input(const RunConfig& config, const std::string& command) {
-  if (config.mode == RunMode::kAnalogy)
-    throw ConfigError(config.config_path.string() + ": mode: analogy has no transfer for scanfill " + command +
-                      " (completion or transfer)");
+  if (config.mode == RunMode::kAnalogy || config.mode == RunMode::kExchange)
+    throw ConfigError(config.config_path.string() + ": mode: " + mode_name(config.mode) +
+                      " has no transfer for scanfill " + command + " (completion or transfer)");
   return input_for(config, config.mode == RunMode::kCompletion ? Role::kScan : Role::kExemplar);
 }
 

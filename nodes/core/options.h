@@ -25,7 +25,7 @@ struct Landmark;               // nodes/correspond
 struct LandmarkFiles;          // nodes/correspond
 
 using FieldRef = std::variant<double*, int*, Index*, std::uint64_t*, bool*, NormalOrientation*,
-                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*, LandmarkFiles*>;
+                              std::optional<Eigen::Vector3d>*, std::vector<Landmark>*, LandmarkFiles*, std::string*>;
 
 struct Field {
   std::string key;                                    // the YAML key, = the field's name

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "nodes/io/raw_mesh.h"
+#include "nodes/io/read_part_labels.h"
 
 namespace scanfill::io {
 namespace {
@@ -464,3 +465,87 @@ RawMesh read_ply(const std::filesystem::path& path) {
 }
 
 }  // namespace scanfill::io
+
+namespace scanfill {
+namespace {
+
+// One scalar or list property of a record: its value (a list's count), or, for a list, its items skipped.
+double read_property(const io::Property& prop, io::Encoding encoding, bool swap, io::Tokenizer& tok, const char*& p,
+                     const char* end, const std::filesystem::path& path) {
+  const auto value = [&](io::Type type) {
+    if (encoding == io::Encoding::kAscii) {
+      const std::string_view t = tok.next();
+      double v = 0;
+      if (t.empty() || !io::parse_double(t, v)) io::fail(path, "truncated or not a number in property " + prop.name);
+      return v;
+    }
+    const size_t n = io::type_size(type);
+    if (size_t(end - p) < n) io::fail(path, "truncated in property " + prop.name);
+    const double v = io::read_binary(p, type, swap);
+    p += n;
+    return v;
+  };
+  if (!prop.is_list) return value(prop.type);
+  const double count = value(prop.count_type);
+  if (count < 0 || count > double(end - p) + double(tok.remaining()))
+    io::fail(path, "invalid list count in property " + prop.name);
+  for (std::int64_t k = 0; k < std::int64_t(count); ++k) value(prop.type);
+  return count;
+}
+
+}  // namespace
+
+PartLabels read_ply_part_labels(const std::filesystem::path& path, const std::vector<std::string>& names) {
+  const std::string data = io::read_file(path);
+  const io::PlyHeader header = io::parse_ply_header(path, data, data.size());
+  std::vector<std::string> present;
+  for (const io::Element& e : header.elements)
+    if (e.name == "vertex")
+      for (const io::Property& prop : e.properties) present.push_back(prop.name);
+  int xyz[3] = {-1, -1, -1}, label = -1;
+  PartLabels out;
+  const auto it = std::find_first_of(names.begin(), names.end(), present.begin(), present.end());
+  if (it == names.end()) {
+    std::string wanted, has;
+    for (const auto& n : names) wanted += (wanted.empty() ? "'" : " or '") + n + "'";
+    for (const auto& n : present) has += (has.empty() ? "" : " ") + n;
+    io::fail(path, "no vertex property " + wanted + " with the parts (the vertices have " + has + ")");
+  }
+  out.property = *it;
+  bool started = false;
+  const bool swap = (header.encoding == io::Encoding::kLittle) != (std::endian::native == std::endian::little);
+  const char* p = data.data() + std::min(header.body, data.size());
+  const char* end = data.data() + data.size();
+  io::Tokenizer tok(p, end);
+  for (const io::Element& e : header.elements) {
+    const bool vertex = e.name == "vertex";
+    if (vertex) {
+      for (size_t k = 0; k < e.properties.size(); ++k) {
+        const std::string& n = e.properties[k].name;
+        if (n == "x" || n == "y" || n == "z") xyz[n[0] - 'x'] = int(k);
+        if (n == out.property && !e.properties[k].is_list) label = int(k);
+      }
+      if (label < 0) io::fail(path, "vertex property '" + out.property + "' is a list, expected one integer");
+      if (std::min({xyz[0], xyz[1], xyz[2]}) < 0) io::fail(path, "PLY vertex element lacks x, y or z");
+      started = true;
+    }
+    std::vector<double> values(e.properties.size());
+    for (std::int64_t r = 0; r < e.count; ++r) {
+      for (size_t k = 0; k < e.properties.size(); ++k)
+        values[k] = read_property(e.properties[k], header.encoding, swap, tok, p, end, path);
+      if (!vertex) continue;
+      const double l = values[size_t(label)];
+      if (l != std::floor(l) || std::abs(l) > 2e9)
+        io::fail(path, "vertex " + std::to_string(r) + " has the part '" + io::short_number(l) + "' in property '" +
+                           out.property + "', not an integer");
+      const Eigen::Vector3d x(values[size_t(xyz[0])], values[size_t(xyz[1])], values[size_t(xyz[2])]);
+      if (!x.allFinite()) continue;
+      out.positions.push_back(x);
+      out.labels.push_back(int(l));
+    }
+    if (started) break;  // nothing after the vertices is needed
+  }
+  return out;
+}
+
+}  // namespace scanfill

@@ -1,5 +1,7 @@
 #include "nodes/procedural/shapes.h"
 
+#include "nodes/procedural/castle.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -492,18 +494,22 @@ PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int 
 }
 
 const std::vector<std::string>& shape_names() {
-  static const std::vector<std::string> names{"plane",     "sphere",
-                                              "cylinder",  "blob",
-                                              "box",       "box_l",
-                                              "vase",      "vase_template",
-                                              "column",    "column_template",
-                                              "gear",      "gear_template",
-                                              "table",     "table_template",
-                                              "bench",     "bench_template",
-                                              "crate",     "crate_template",
-                                              "box8",      "column_template24",
-                                              "disk_pair", "disk_pair_scaled",
-                                              "gear_pair", "gear_pair_scaled"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n{"plane",     "sphere",
+                               "cylinder",  "blob",
+                               "box",       "box_l",
+                               "vase",      "vase_template",
+                               "column",    "column_template",
+                               "gear",      "gear_template",
+                               "table",     "table_template",
+                               "bench",     "bench_template",
+                               "crate",     "crate_template",
+                               "box8",      "column_template24",
+                               "disk_pair", "disk_pair_scaled",
+                               "gear_pair", "gear_pair_scaled"};
+    for (const std::string& castle : castle_names()) n.push_back(castle);  // castle_LAYOUT[_STYLE] (castle.h)
+    return n;
+  }();
   return names;
 }
 
@@ -538,6 +544,7 @@ PointSet make_shape(const std::string& name) {
   if (name == "disk_pair_scaled") return make_disk_pair(0.7, false);
   if (name == "gear_pair") return make_disk_pair(1.0, true);
   if (name == "gear_pair_scaled") return make_disk_pair(0.7, true);
+  if (auto castle = make_named_castle(name)) return std::move(*castle);
   std::string valid;
   for (const auto& n : shape_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InputError("unknown procedural shape '" + name + "' (valid: " + valid + ")");
