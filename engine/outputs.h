@@ -8,6 +8,7 @@
 
 #include "engine/pipeline.h"
 #include "engine/stages.h"
+#include "nodes/io/write_ply.h"
 
 namespace scanfill {
 
@@ -22,6 +23,22 @@ ColourChoice resolved_colour(ColourChoice configured, bool carried_colours);
 // plan` and `scanfill apply` write their points with it, so that they are output.ply's own.
 void write_output_ply(const std::filesystem::path& path, const TransferResult& output, ColourChoice colour,
                       int self_label);
+
+// output.ply written as the transfer streams it: the header from the counts, then each run of points coloured as
+// `colour` (resolved) says, then the triangles; the file appears at commit(). write_output_ply is one of these.
+class OutputPlyWriter {
+ public:
+  OutputPlyWriter(const std::filesystem::path& path, const TransferCounts& counts, bool intensity, ColourChoice colour,
+                  int self_label);
+  void append(const TransferResult& run);
+  void append_faces(const Matrix3Xi& faces) { ply_.append_faces(faces); }
+  void commit() { ply_.commit(); }
+
+ private:
+  PlyWriter ply_;
+  ColourChoice colour_;
+  int self_label_;
+};
 
 // Writes into the staging folder (state.write_dir), then commits it: the files appear in output.dir together.
 RunOutcome write_outputs(RunState& state, Staging& staging);
