@@ -240,47 +240,40 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
 PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
                                      const std::function<bool(const Eigen::Vector3d&)>& keep) {
   if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
+  if (n <= 0) return PointSet();
   const SurfaceTable table = surface_table(mesh);
   const tbb::blocked_range<Index> all(0, n, kBlock);
-  // The bounding box of all n points sets the Morton grid, as in random_surface_points.
-  tbb::enumerable_thread_specific<BoundingBox> boxes([] {
-    const double inf = std::numeric_limits<double>::infinity();
-    return BoundingBox{Eigen::Vector3d::Constant(inf), Eigen::Vector3d::Constant(-inf)};
-  });
-  tbb::parallel_for(
-      all,
-      [&](const tbb::blocked_range<Index>& r) {
-        BoundingBox& b = boxes.local();
-        draw_surface_points(
-            mesh, table, seed, r,
-            [&](Index, std::int32_t, const Eigen::Vector3d&, const Eigen::Vector3d& p, const Eigen::Vector3d&) {
-              b.min = b.min.cwiseMin(p);
-              b.max = b.max.cwiseMax(p);
-            });
-      },
-      tbb::simple_partitioner());
-  BoundingBox box = boxes.combine([](const BoundingBox& a, const BoundingBox& b) {
-    return BoundingBox{a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)};
-  });
+  // One pass: every point widens the bounding box (of all n, which sets the Morton grid as in random_surface_points),
+  // the kept ones are stored; their Morton keys come after, from the whole box.
   struct Kept {
     std::uint64_t key;
     Index index;
     Eigen::Vector3d p, n;
   };
-  tbb::enumerable_thread_specific<std::vector<Kept>> kept;
+  struct Part {
+    BoundingBox box{Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+                    Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity())};
+    std::vector<Kept> kept;
+  };
+  tbb::enumerable_thread_specific<Part> parts;
   tbb::parallel_for(
       all,
       [&](const tbb::blocked_range<Index>& r) {
-        auto& mine = kept.local();
+        Part& mine = parts.local();
         draw_surface_points(
             mesh, table, seed, r,
             [&](Index i, std::int32_t, const Eigen::Vector3d&, const Eigen::Vector3d& p, const Eigen::Vector3d& nrm) {
-              if (keep(p)) mine.push_back({morton_key(p, box), i, p, nrm});
+              mine.box.min = mine.box.min.cwiseMin(p);
+              mine.box.max = mine.box.max.cwiseMax(p);
+              if (keep(p)) mine.kept.push_back({0, i, p, nrm});
             });
       },
       tbb::simple_partitioner());
+  BoundingBox box = parts.begin()->box;
+  for (const Part& part : parts) box = {box.min.cwiseMin(part.box.min), box.max.cwiseMax(part.box.max)};
   std::vector<Kept> all_kept;
-  for (auto& mine : kept) all_kept.insert(all_kept.end(), mine.begin(), mine.end());
+  for (const Part& part : parts) all_kept.insert(all_kept.end(), part.kept.begin(), part.kept.end());
+  for (Kept& k : all_kept) k.key = morton_key(k.p, box);
   // The order of random_surface_points: by Morton key, ties by index.
   std::sort(all_kept.begin(), all_kept.end(),
             [](const Kept& a, const Kept& b) { return a.key != b.key ? a.key < b.key : a.index < b.index; });
