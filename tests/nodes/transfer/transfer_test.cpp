@@ -365,6 +365,25 @@ TEST(StreamPlan, ChunksOfAnySizeGiveTheWholeTransferInItsOrder) {
   }
 }
 
+TEST(StreamPlan, EveryKthKeepsTheOutputPointsWhoseIndexIsAMultipleOfK) {
+  TwoPatches t;
+  t.E = coloured(t.E);
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet copies = copied_points(plan, t.target);
+  const TransferResult whole = apply_plan(plan, &t.E, &copies);
+  EveryKth every(3);
+  const TransferSink sink{{}, [&](const TransferResult& run) { every.add(run); }, {}};
+  stream_plan(plan, &t.E, &copies, 7, sink);
+  const TransferResult kept = every.take();
+  std::vector<std::int32_t> rows;
+  for (Index i = 0; i < whole.points.size(); i += 3) rows.push_back(std::int32_t(i));
+  TransferResult want;
+  want.points = subset(whole.points, rows);
+  for (const auto r : rows)
+    want.origin.push_back(whole.origin[size_t(r)]), want.label.push_back(whole.label[size_t(r)]);
+  expect_identical(kept, want);
+}
+
 TEST(StreamPlan, CopiedPointsAreTheCopySurfacesCopiesWithoutTheRest) {
   // A low-poly target (9 vertices) is copied from random points on its surface at the exemplar's density: copied_points
   // makes them block by block and keeps the copied ones, in the order of the whole copy surface.
