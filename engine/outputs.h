@@ -1,7 +1,8 @@
 // The outputs of a run (DESIGN section 5), written after the whole graph has succeeded: samples_ROLE.ply per input,
-// output.ply (completion, transfer), output_mesh.ply (when output.surface makes one), analogy.ply with a colour per
-// transform, report.json last; and the summary shown to the user. The run fails whole: files are staged beside the
-// output folder and moved in together (engine/staging.h).
+// output_mesh.ply (when output.surface makes one), analogy.ply with a colour per transform, report.json last; and the
+// summary shown to the user. output.ply (completion, transfer) is streamed into the staging folder by the transfer node
+// (OutputPlyWriter), too large to hold whole. The run fails whole: files are staged beside the output folder and moved
+// in together (engine/staging.h).
 #pragma once
 
 #include <filesystem>
