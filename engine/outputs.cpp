@@ -61,11 +61,6 @@ std::array<double, 3> label_colour(int label, int self_label) {
   return rgb;
 }
 
-// output.colour as it applies to this output (see resolved_colour).
-ColourChoice colour_choice(const RunConfig& config, const TransferResult& o) {
-  return resolved_colour(config.output_colour, o.points.has_colours());
-}
-
 // output.ply's colour of a point: by origin (scan or exemplar grey, synthesised orange, copied blue), or by label
 // (as analogy.ply; the scan's own points grey).
 std::array<double, 3> output_colour(Origin origin, int label, int self_label, bool by_label) {
@@ -144,23 +139,19 @@ void write_correspondence(const RunState& state, const Correspondence& c, RunOut
 }
 
 // output.ply; the report's output, synthesis, correspondence and align.
-void write_output(const RunState& state, const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
-  const TransferResult& o = t.output;
-  Index by_origin[3] = {0, 0, 0};
-  for (const Origin origin : o.origin) ++by_origin[int(origin)];
-  const std::filesystem::path out = state.write_dir / "output.ply";
-  const ColourChoice colour = colour_choice(state.config, o);
-  write_output_ply(out, o, colour, t.aligned->synthesized->analogy->labels.self_label);
-  outcome.outputs.push_back(out);
-  report["output"] = {{"points", o.points.size()},
-                      {"faces", o.points.faces().cols()},
-                      {"exemplar_points", by_origin[0]},
-                      {"synthesized_points", by_origin[1]},
-                      {"copied_points", by_origin[2]},
+void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outcome) {
+  const TransferCounts& c = t.counts;
+  const ColourChoice colour = t.colour;
+  outcome.outputs.push_back(t.written);  // streamed by the transfer node
+  report["output"] = {{"points", c.points},
+                      {"faces", c.faces},
+                      {"exemplar_points", c.by_origin[0]},
+                      {"synthesized_points", c.by_origin[1]},
+                      {"copied_points", c.by_origin[2]},
                       {"colour", colour == ColourChoice::kScan    ? "scan"
                                  : colour == ColourChoice::kLabel ? "label"
                                                                   : "origin"},
-                      {"intensity", o.points.has_intensity()}};
+                      {"intensity", t.intensity}};
   const Synthesized& s = *t.aligned->synthesized;
   const Synthesis& syn = s.synthesis;
   const AlignResult& al = t.aligned->alignment;
@@ -248,7 +239,7 @@ std::vector<PreviewPanel> input_panels(const RunState& state) {
       PreviewPanel panel{&f.features.points, {Rgb{190, 190, 190}}, f.sampled->sample.spacing};
       // The scan in its own colours when output.ply shows them.
       const TransferredPtr& t = state.output();
-      if (t && colour_choice(config, t->output) == ColourChoice::kScan && f.features.points.has_colours()) {
+      if (t && t->colour == ColourChoice::kScan && f.features.points.has_colours()) {
         const Matrix3Xu8& c = f.features.points.colours();
         panel.colours.clear();
         for (Index i = 0; i < c.cols(); ++i) panel.colours.push_back({c(0, i), c(1, i), c(2, i)});
@@ -271,13 +262,13 @@ void write_preview(const RunState& state, RunOutcome& outcome) {
   std::vector<PreviewPanel> panels = input_panels(state);
   if (panels.empty()) return;
   if (const TransferredPtr& t = state.output()) {
-    const TransferResult& o = t->output;
+    const TransferResult& o = t->kept;  // output.ply's points, or an even subsample of them
     // The output's spacing from the samples': as many points on the same surface.
     const double spacing = panels.back().spacing * std::sqrt(double(panels.back().points->size()) /
                                                              double(std::max<Index>(o.points.size(), 1)));
     PreviewPanel out{&o.points, {}, spacing};
     const PointSet coloured =  // as output.ply
-        coloured_output(o, colour_choice(config, o), t->aligned->synthesized->analogy->labels.self_label);
+        coloured_output(o, t->colour, t->aligned->synthesized->analogy->labels.self_label);
     const Matrix3Xu8& c = coloured.colours();
     for (Index i = 0; i < c.cols(); ++i) out.colours.push_back({c(0, i), c(1, i), c(2, i)});
     panels.push_back(std::move(out));
@@ -321,10 +312,9 @@ void write_curves(const RunState& state, const Drawn& d, nlohmann::json& report,
                     css_colour(label_colour(a.labels.labels[i], a.labels.self_label))});
   write_svg(dir / "analogy.svg", grey, dots, 0.4 * spacing);
   const Featured &source = input_of(state, Role::kSource), &exemplar = input_of(state, Role::kExemplar);
-  PreviewPanel labelled{&target.features.points, {}, spacing}, output{&d.transferred->output.points, {}, spacing};
+  PreviewPanel labelled{&target.features.points, {}, spacing}, output{&d.transferred->kept.points, {}, spacing};
   for (const int l : a.labels.labels) labelled.colours.push_back(rgb_of(label_colour(l, a.labels.self_label)));
-  for (const int l : d.transferred->output.label)
-    output.colours.push_back(rgb_of(label_colour(l, a.labels.self_label)));
+  for (const int l : d.transferred->kept.label) output.colours.push_back(rgb_of(label_colour(l, a.labels.self_label)));
   const std::vector<PreviewPanel> panels{{&source.features.points, {Rgb{40, 40, 40}}, spacing},
                                          std::move(labelled),
                                          {&exemplar.features.points, {Rgb{40, 40, 40}}, spacing},
@@ -536,11 +526,42 @@ ColourChoice resolved_colour(ColourChoice configured, bool carried_colours) {
   return carried_colours ? ColourChoice::kScan : ColourChoice::kOrigin;
 }
 
+namespace {
+
+// output.ply's layout: what write_ply gave a coloured output with origin and label.
+PlyLayout output_layout(const TransferCounts& counts, bool intensity) {
+  PlyLayout layout;
+  layout.vertices = counts.points;
+  layout.faces = counts.faces;
+  const bool any = counts.points > 0;
+  layout.normals = any;
+  layout.colours = any;
+  layout.intensity = any && intensity;
+  layout.extra = {{"origin", PlyProperty::Type::kUint8}, {"label", PlyProperty::Type::kInt32}};
+  return layout;
+}
+
+}  // namespace
+
+OutputPlyWriter::OutputPlyWriter(const std::filesystem::path& path, const TransferCounts& counts, bool intensity,
+                                 ColourChoice colour, int self_label)
+    : ply_(path, output_layout(counts, intensity)), colour_(colour), self_label_(self_label) {}
+
+void OutputPlyWriter::append(const TransferResult& run) {
+  std::vector<double> origin(run.origin.size()), label(run.label.begin(), run.label.end());
+  for (size_t i = 0; i < run.origin.size(); ++i) origin[i] = double(int(run.origin[i]));
+  ply_.append(coloured_output(run, colour_, self_label_),
+              {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
+}
+
 void write_output_ply(const std::filesystem::path& path, const TransferResult& o, ColourChoice colour, int self_label) {
-  std::vector<double> origin(o.origin.size()), label(o.label.begin(), o.label.end());
-  for (size_t i = 0; i < o.origin.size(); ++i) origin[i] = double(int(o.origin[i]));
-  write_ply(path, coloured_output(o, colour, self_label),
-            {{"origin", PlyProperty::Type::kUint8, origin}, {"label", PlyProperty::Type::kInt32, label}});
+  TransferCounts counts;
+  counts.points = o.points.size();
+  counts.faces = o.points.faces().cols();
+  OutputPlyWriter writer(path, counts, o.points.has_intensity(), colour, self_label);
+  writer.append(o);
+  writer.append_faces(o.points.faces());
+  writer.commit();
 }
 
 RunOutcome write_outputs(RunState& state, Staging& staging) {
@@ -550,7 +571,7 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
   if (state.output()) {
-    write_output(state, *state.output(), report, outcome);
+    write_output(*state.output(), report, outcome);
     write_correspondence(state, *state.output()->aligned->synthesized->correspondence, outcome);
   }
   if (state.surface()) write_surface(state, *state.surface(), report, outcome);

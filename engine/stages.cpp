@@ -2,9 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "engine/console.h"
 #include "engine/fields.h"
+#include "engine/outputs.h"
 #include "nodes/core/errors.h"
 #include "nodes/io/read_part_labels.h"
 #include "nodes/procedural/castle.h"
@@ -422,15 +424,59 @@ PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame)
   });
 }
 
+namespace {
+
+// Input points per run of the streamed transfer: its buffers are about 100 bytes a point.
+constexpr Index kTransferChunk = Index(1) << 20;
+
+// The output points the transfer's message keeps for the surface and the preview: all of them up to this many (and
+// always in mode curves, whose drawing orders every point), else every stride-th point, about this many. The surface
+// thins its input to surface.max_points (10^4) on a voxel grid, which 10^6 even subsample points fill as the whole
+// output does.
+constexpr Index kKeptPoints = Index(1) << 20;
+
+Index kept_stride(const RunConfig& config, Index output_points) {
+  if (config.mode == RunMode::kCurves) return 1;
+  const Index budget = std::max(kKeptPoints, 16 * config.surface.max_points);
+  return std::max<Index>(1, (output_points + budget - 1) / budget);
+}
+
+}  // namespace
+
 TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
   return run_node(state, "transfer", "", [&](const ProgressFn& progress) {
     const Synthesized& syn = *in->aligned->synthesized;
     const PointSet& exemplar = syn.correspondence->exemplar->sampled->loaded->load.points;
     const PointSet& target = syn.analogy->votes().target()->sampled->loaded->load.points;
-    auto out = std::make_shared<Transferred>(
-        Transferred{in->aligned, transfer_planned(in->plan, &exemplar, &target, progress)});
+    const TransferPlan& plan = in->plan;
+    auto out = std::make_shared<Transferred>();
+    out->aligned = in->aligned;
+    out->written = state.write_dir / "output.ply";
+    // Copies come from the target's surface at the exemplar's density; only the copied points are made and held.
+    const PointSet copies = copied_points(plan, target);
+    std::optional<OutputPlyWriter> writer;
+    std::optional<EveryKth> kept;
+    const TransferSink sink{[&](const TransferCounts& c) {
+                              out->colour = resolved_colour(state.config.output_colour, plan.colours && c.points > 0);
+                              out->intensity = plan.intensity && c.points > 0;
+                              out->stride = kept_stride(state.config, c.points);
+                              writer.emplace(out->written, c, out->intensity, out->colour,
+                                             syn.analogy->labels.self_label);
+                              kept.emplace(out->stride);
+                            },
+                            [&](const TransferResult& run) {
+                              writer->append(run);
+                              kept->add(run);
+                            },
+                            [&](const Matrix3Xi& faces) { writer->append_faces(faces); }};
+    out->counts = stream_plan(plan, &exemplar, &copies, kTransferChunk, sink, progress);
+    writer->commit();
+    out->kept = kept->take();
     node_logger("transfer")
-        ->info("{} output points, {} faces", out->output.points.size(), out->output.points.faces().cols());
+        ->info(
+            "{} output points, {} faces written to output.ply in runs of {} scan points; {} kept for the surface and "
+            "the preview",
+            out->counts.points, out->counts.faces, kTransferChunk, out->kept.points.size());
     state.keep(out);
     return TransferredPtr(std::move(out));
   });
@@ -438,7 +484,7 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
 
 SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
-    auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->output.points, state.config.surface)});
+    auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->kept.points, state.config.surface)});
     const SurfaceResult& s = out->surface;
     for (const auto& w : s.warnings) state.warn("surface", w);
     node_logger("surface")->info(
@@ -514,10 +560,10 @@ DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in) {
   return run_node(state, "draw", "", [&](const ProgressFn&) {
     const Featured& target = *in->aligned->synthesized->analogy->votes().target();
     auto out = std::make_shared<Drawn>(
-        Drawn{in, order_into_curves(in->output.points.positions(), *target.sampled->curves, state.config.curves)});
+        Drawn{in, order_into_curves(in->kept.points.positions(), *target.sampled->curves, state.config.curves)});
     Index closed = 0;
     for (const Polyline& c : out->curves) closed += c.closed;
-    node_logger("draw")->info("{} output points as {} polylines ({} closed)", in->output.points.size(),
+    node_logger("draw")->info("{} output points as {} polylines ({} closed)", in->kept.points.size(),
                               out->curves.size(), closed);
     state.keep(out);
     return DrawnPtr(std::move(out));

@@ -109,9 +109,17 @@ struct Planned {
   TransferPlan plan;
 };
 using PlannedPtr = std::shared_ptr<const Planned>;
+// The transfer streams output.ply into the staging folder as it carries the points (DESIGN section 10: memory bounded
+// by the samples plus one chunk); what the message keeps of the output is its counts and every `stride`-th point.
 struct Transferred {
   AlignedPtr aligned;
-  TransferResult output;
+  TransferCounts counts;
+  ColourChoice colour = ColourChoice::kOrigin;  // output.ply's RGB (output.colour resolved)
+  bool intensity = false;                       // output.ply has the scan's intensity
+  Index stride = 1;                             // kept: every stride-th output point
+  TransferResult kept;  // all the points when there are few (and in mode curves), else a bounded even subsample:
+                        // the surface's and the preview's input
+  std::filesystem::path written;  // output.ply, in the staging folder
 };
 using TransferredPtr = std::shared_ptr<const Transferred>;
 

@@ -111,11 +111,7 @@ std::vector<std::int32_t> knn_graph(const KdTree& tree, const Eigen::Matrix3Xd& 
   return graph;
 }
 
-std::vector<Index> morton_order(const Eigen::Matrix3Xd& points) {
-  const Index n = points.cols();
-  std::vector<Index> order(static_cast<size_t>(n));
-  if (n == 0) return order;
-  const BoundingBox box = bounding_box(points);
+std::uint64_t morton_key(const Eigen::Vector3d& p, const BoundingBox& box) {
   const double extent = std::max((box.max - box.min).maxCoeff(), 1e-300);
   const double scale = double((1u << 21) - 1) / extent;
   auto spread = [](std::uint64_t v) {  // 21 bits -> every third bit of 63
@@ -127,13 +123,18 @@ std::vector<Index> morton_order(const Eigen::Matrix3Xd& points) {
     v = (v | v << 2) & 0x1249249249249249ULL;
     return v;
   };
+  const Eigen::Vector3d g = (p - box.min) * scale;
+  return spread(std::uint64_t(g.x())) | spread(std::uint64_t(g.y())) << 1 | spread(std::uint64_t(g.z())) << 2;
+}
+
+std::vector<Index> morton_order(const Eigen::Matrix3Xd& points) {
+  const Index n = points.cols();
+  std::vector<Index> order(static_cast<size_t>(n));
+  if (n == 0) return order;
+  const BoundingBox box = bounding_box(points);
   std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<size_t>(n));
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, 4096), [&](const tbb::blocked_range<Index>& r) {
-    for (Index i = r.begin(); i != r.end(); ++i) {
-      const Eigen::Vector3d g = (points.col(i) - box.min) * scale;
-      keys[size_t(i)] = {
-          spread(std::uint64_t(g.x())) | spread(std::uint64_t(g.y())) << 1 | spread(std::uint64_t(g.z())) << 2, i};
-    }
+    for (Index i = r.begin(); i != r.end(); ++i) keys[size_t(i)] = {morton_key(points.col(i), box), i};
   });
   tbb::parallel_sort(keys.begin(), keys.end());  // ties broken by index: deterministic
   for (Index i = 0; i < n; ++i) order[size_t(i)] = keys[size_t(i)].second;

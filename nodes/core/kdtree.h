@@ -55,6 +55,9 @@ std::vector<std::int32_t> knn_graph(const KdTree& tree, const Eigen::Matrix3Xd& 
 // point that goes to position i. Reordering points this way makes kd-tree queries in index order cache-friendly.
 std::vector<Index> morton_order(const Eigen::Matrix3Xd& points);
 
+// A point's Morton key on the 2^21 grid over `box` (morton_order's key, with the box of all its points).
+std::uint64_t morton_key(const Eigen::Vector3d& p, const BoundingBox& box);
+
 // Mean distance from each point to its nearest other point (the sample spacing alpha of the paper).
 double mean_nearest_neighbor_distance(const Eigen::Matrix3Xd& points, const KdTree& tree);
 

@@ -4,7 +4,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nodes/core/point_set.h"
@@ -31,6 +33,47 @@ enum class PlyReal {
 // extra property repeats one of the point set's (colours are set on the point set).
 void write_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<PlyProperty>& extra = {},
                PlyReal real = PlyReal::kFloat32);
+
+// The record layout of a binary PLY as write_ply writes it: which point-set attributes and extra properties each
+// vertex has, and how many vertices and triangles the file declares.
+struct PlyLayout {
+  Index vertices = 0;
+  Index faces = 0;
+  bool normals = false, curvatures = false, directions = false, colours = false, intensity = false;
+  std::vector<std::pair<std::string, PlyProperty::Type>> extra;  // after the directions, before the colours
+  PlyReal real = PlyReal::kFloat32;
+};
+
+// A binary PLY written in pieces: the header first (the counts declared up front), then the vertices in any number of
+// append() calls, then the triangles. The file appears (atomically, by rename) only at commit(), which checks that
+// exactly the declared counts were written; a writer destroyed before commit() leaves no file. Memory is one piece's
+// buffer, whatever the file's size. write_ply is one PlyWriter with one append.
+class PlyWriter {
+ public:
+  PlyWriter(const std::filesystem::path& path, PlyLayout layout);
+  ~PlyWriter();
+  PlyWriter(const PlyWriter&) = delete;
+  PlyWriter& operator=(const PlyWriter&) = delete;
+
+  // The next points.size() vertices: the layout's attributes of `points`, and `extra` in the layout's order (same
+  // names, one value per point). Throws InvariantError when they do not match the layout or exceed its count.
+  void append(const PointSet& points, const std::vector<PlyProperty>& extra = {});
+  // The next triangles (vertex indices into the whole file), after every vertex.
+  void append_faces(const Matrix3Xi& faces);
+  // Throws InvariantError unless the declared counts were written, IoError naming the file when it cannot be.
+  void commit();
+
+ private:
+  std::filesystem::path path_, tmp_;
+  PlyLayout layout_;
+  std::ofstream out_;
+  std::string buf_;
+  Index vertices_ = 0, faces_ = 0;
+  bool committed_ = false;
+};
+
+// The layout write_ply gives `points` with `extra`.
+PlyLayout ply_layout(const PointSet& points, const std::vector<PlyProperty>& extra, PlyReal real = PlyReal::kFloat32);
 
 // Writes `content` to `path` atomically (temp file + rename). Throws IoError naming the file.
 void write_file_atomic(const std::filesystem::path& path, const std::string& content);

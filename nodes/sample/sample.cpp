@@ -1,6 +1,7 @@
 #include "nodes/sample/sample.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -43,50 +45,75 @@ struct Candidates {
   VectorXi64 column;  // cloud candidates: column of the point set sampled (for its colours and intensity)
 };
 
-Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
+// A mesh's triangles as a distribution of random surface points: cumulative areas and face normals.
+struct SurfaceTable {
+  std::vector<double> cumulative;
+  Eigen::Matrix3Xd face_normal;
+  double total = 0;
+};
+
+SurfaceTable surface_table(const PointSet& mesh) {
   const auto& P = mesh.positions();
   const auto& F = mesh.faces();
   const Index nf = F.cols();
-  std::vector<double> cumulative(static_cast<size_t>(nf));
-  Eigen::Matrix3Xd face_normal(3, nf);
-  double total = 0;
+  SurfaceTable t{std::vector<double>(static_cast<size_t>(nf)), Eigen::Matrix3Xd(3, nf), 0};
   for (Index f = 0; f < nf; ++f) {
     const Eigen::Vector3d c = (P.col(F(1, f)) - P.col(F(0, f))).cross(P.col(F(2, f)) - P.col(F(0, f)));
     const double a = 0.5 * c.norm();
-    face_normal.col(f) = a > 0 ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d::Zero();
-    total += a;
-    cumulative[size_t(f)] = total;
+    t.face_normal.col(f) = a > 0 ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d::Zero();
+    t.total += a;
+    t.cumulative[size_t(f)] = t.total;
   }
-  if (!(total > 0)) throw InputError("mesh has zero surface area; nothing to sample");
+  if (!(t.total > 0)) throw InputError("mesh has zero surface area; nothing to sample");
+  return t;
+}
+
+// The random surface points [r.begin(), r.end()): emit(i, face, barycentrics, position, normal) for each. One
+// generator per range, seeded from (seed, range start / kBlock): callers split [0, m) into ranges by a
+// simple_partitioner over blocked_range(0, m, kBlock), which halves down to kBlock whatever the thread count and the
+// work stealing, so the points depend on m alone; the default (auto) partitioner stops halving where stealing says,
+// which made large runs (the copy surface of a 10^7-point scan) differ from run to run.
+template <class Emit>
+void draw_surface_points(const PointSet& mesh, const SurfaceTable& t, std::uint64_t seed,
+                         const tbb::blocked_range<Index>& r, Emit&& emit) {
+  const auto& P = mesh.positions();
+  const auto& F = mesh.faces();
+  const Index nf = F.cols();
+  std::mt19937_64 rng(splitmix(seed ^ splitmix(std::uint64_t(r.begin() / kBlock))));
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (Index i = r.begin(); i != r.end(); ++i) {
+    const double pick = u01(rng) * t.total;
+    Index f = std::upper_bound(t.cumulative.begin(), t.cumulative.end(), pick) - t.cumulative.begin();
+    f = std::min(f, nf - 1);
+    const double s = std::sqrt(u01(rng)), v = u01(rng);
+    const Eigen::Vector3d b(1 - s, s * (1 - v), s * v);
+    const Eigen::Vector3d p = b(0) * P.col(F(0, f)) + b(1) * P.col(F(1, f)) + b(2) * P.col(F(2, f));
+    Eigen::Vector3d n = t.face_normal.col(f);
+    if (mesh.has_normals()) {
+      const Eigen::Vector3d vn =
+          b(0) * mesh.normals().col(F(0, f)) + b(1) * mesh.normals().col(F(1, f)) + b(2) * mesh.normals().col(F(2, f));
+      if (vn.norm() > 1e-12) n = vn.normalized();
+    }
+    emit(i, std::int32_t(f), b, p, n);
+  }
+}
+
+Candidates mesh_candidates(const PointSet& mesh, Index m, std::uint64_t seed) {
+  const SurfaceTable table = surface_table(mesh);
   Candidates c;
   c.positions.resize(3, m);
   c.normals.resize(3, m);
   c.face.resize(m);
   c.bary.resize(3, m);
-  // One generator per chunk, seeded from (seed, chunk start / kBlock). The simple partitioner halves the range down to
-  // kBlock whatever the thread count and the work stealing, so the chunks, and the candidates, depend on m alone; the
-  // default (auto) partitioner stops halving where stealing says, which made large runs (the copy surface of a
-  // 10^7-point scan) differ from run to run.
   const auto fill = [&](const tbb::blocked_range<Index>& r) {
-    std::mt19937_64 rng(splitmix(seed ^ splitmix(std::uint64_t(r.begin() / kBlock))));
-    std::uniform_real_distribution<double> u01(0.0, 1.0);
-    for (Index i = r.begin(); i != r.end(); ++i) {
-      const double pick = u01(rng) * total;
-      Index f = std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
-      f = std::min(f, nf - 1);
-      const double s = std::sqrt(u01(rng)), t = u01(rng);
-      const Eigen::Vector3d b(1 - s, s * (1 - t), s * t);
-      c.face(i) = std::int32_t(f);
-      c.bary.col(i) = b;
-      c.positions.col(i) = b(0) * P.col(F(0, f)) + b(1) * P.col(F(1, f)) + b(2) * P.col(F(2, f));
-      Eigen::Vector3d n = face_normal.col(f);
-      if (mesh.has_normals()) {
-        const Eigen::Vector3d vn = b(0) * mesh.normals().col(F(0, f)) + b(1) * mesh.normals().col(F(1, f)) +
-                                   b(2) * mesh.normals().col(F(2, f));
-        if (vn.norm() > 1e-12) n = vn.normalized();
-      }
-      c.normals.col(i) = n;
-    }
+    draw_surface_points(
+        mesh, table, seed, r,
+        [&](Index i, std::int32_t f, const Eigen::Vector3d& b, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+          c.face(i) = f;
+          c.bary.col(i) = b;
+          c.positions.col(i) = p;
+          c.normals.col(i) = n;
+        });
   };
   tbb::parallel_for(tbb::blocked_range<Index>(0, m, kBlock), fill, tbb::simple_partitioner());
   // Random candidates in Morton order: neighbour queries in index order then stay in cache (3-5x faster at 10^5).
@@ -210,6 +237,56 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
   return out;
 }
 
+PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
+                                     const std::function<bool(const Eigen::Vector3d&)>& keep) {
+  if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
+  if (n <= 0) return PointSet();
+  const SurfaceTable table = surface_table(mesh);
+  const tbb::blocked_range<Index> all(0, n, kBlock);
+  // One pass: every point widens the bounding box (of all n, which sets the Morton grid as in random_surface_points),
+  // the kept ones are stored; their Morton keys come after, from the whole box.
+  struct Kept {
+    std::uint64_t key;
+    Index index;
+    Eigen::Vector3d p, n;
+  };
+  struct Part {
+    BoundingBox box{Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+                    Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity())};
+    std::vector<Kept> kept;
+  };
+  tbb::enumerable_thread_specific<Part> parts;
+  tbb::parallel_for(
+      all,
+      [&](const tbb::blocked_range<Index>& r) {
+        Part& mine = parts.local();
+        draw_surface_points(
+            mesh, table, seed, r,
+            [&](Index i, std::int32_t, const Eigen::Vector3d&, const Eigen::Vector3d& p, const Eigen::Vector3d& nrm) {
+              mine.box.min = mine.box.min.cwiseMin(p);
+              mine.box.max = mine.box.max.cwiseMax(p);
+              if (keep(p)) mine.kept.push_back({0, i, p, nrm});
+            });
+      },
+      tbb::simple_partitioner());
+  BoundingBox box = parts.begin()->box;
+  for (const Part& part : parts) box = {box.min.cwiseMin(part.box.min), box.max.cwiseMax(part.box.max)};
+  std::vector<Kept> all_kept;
+  for (const Part& part : parts) all_kept.insert(all_kept.end(), part.kept.begin(), part.kept.end());
+  for (Kept& k : all_kept) k.key = morton_key(k.p, box);
+  // The order of random_surface_points: by Morton key, ties by index.
+  std::sort(all_kept.begin(), all_kept.end(),
+            [](const Kept& a, const Kept& b) { return a.key != b.key ? a.key < b.key : a.index < b.index; });
+  Eigen::Matrix3Xd P(3, Index(all_kept.size())), N(3, Index(all_kept.size()));
+  for (size_t k = 0; k < all_kept.size(); ++k) {
+    P.col(Index(k)) = all_kept[k].p;
+    N.col(Index(k)) = all_kept[k].n;
+  }
+  PointSet out(std::move(P));
+  out.set_normals(std::move(N));
+  return out;
+}
+
 namespace {
 
 // sample()'s phases, defined after it.
@@ -284,6 +361,7 @@ SampleResult sample(const PointSet& given, const SampleOptions& options, const P
   const bool own_tree = mesh || cand.positions.cols() != input.size();
   KdTree candidate_tree;
   if (own_tree) candidate_tree.build(cand.positions);
+  if (own_tree && !mesh) input_tree = KdTree();  // a thinned cloud's tree of every point is no longer needed
   WeightGraph g = weights(cand, own_tree ? candidate_tree : input_tree, d_max, cos_limit, use_normals,
                           options.weight_exponent, progress);
   report(progress, 0.3);
@@ -294,6 +372,33 @@ SampleResult sample(const PointSet& given, const SampleOptions& options, const P
 }
 
 namespace {
+
+// A cloud's points as candidates: all of them, or the rows `kept`.
+Candidates cloud_candidates(const PointSet& input) {
+  Candidates cand;
+  cand.positions = input.positions();
+  cand.normals = input.normals();
+  cand.column = VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
+  cand.source = input.has_source_index() ? input.source_index() : cand.column;
+  return cand;
+}
+
+Candidates cloud_candidates(const PointSet& input, const std::vector<Index>& kept) {
+  const Index n = Index(kept.size());
+  Candidates cand;
+  cand.positions.resize(3, n);
+  if (input.has_normals()) cand.normals.resize(3, n);
+  cand.source.resize(n);
+  cand.column.resize(n);
+  for (Index k = 0; k < n; ++k) {
+    const Index i = kept[size_t(k)];
+    cand.positions.col(k) = input.positions().col(i);
+    if (input.has_normals()) cand.normals.col(k) = input.normals().col(i);
+    cand.source[k] = input.has_source_index() ? input.source_index()(i) : i;
+    cand.column[k] = i;
+  }
+  return cand;
+}
 
 Candidates candidates(const PointSet& input, const SampleOptions& options, KdTree& input_tree, SampleResult& result,
                       Index& n_target) {
@@ -325,32 +430,18 @@ Candidates candidates(const PointSet& input, const SampleOptions& options, KdTre
       throw InputError("cannot draw " + std::to_string(n_target) + " samples from a cloud of " +
                        std::to_string(input.size()) + " points: use a smaller count");
     }
-    cand.positions = input.positions();
-    cand.normals = input.normals();
-    cand.column = VectorXi64::LinSpaced(input.size(), 0, input.size() - 1);
-    cand.source = input.has_source_index() ? input.source_index() : cand.column;
     // A cloud far denser than the samples asked for (a 10^6-point scan sampled to 10^4) would give every candidate
     // hundreds of neighbours within d_max (about 3.6 per point per sample): gigabytes of lists. Above kThinAbove points
     // per sample it is first thinned on a grid sized for about kThinTo candidates per sample (a surface crosses about
-    // 1.5 A / h^2 cells of side h); sparse regions keep every point.
+    // 1.5 A / h^2 cells of side h); sparse regions keep every point. The candidates are then the kept points alone,
+    // never a copy of the whole cloud.
+    std::vector<Index> kept;
     if (double(input.size()) > kThinAbove * double(n_target)) {
       const double h = std::sqrt(1.5 * result.area / (kThinTo * double(n_target)));
-      const std::vector<Index> kept = thin_cloud(input.positions(), input.normals(), h);
-      if (Index(kept.size()) > n_target) {
-        Candidates thinned;
-        thinned.positions.resize(3, Index(kept.size()));
-        if (cand.normals.cols() == input.size()) thinned.normals.resize(3, Index(kept.size()));
-        thinned.source.resize(Index(kept.size()));
-        thinned.column.resize(Index(kept.size()));
-        for (Index k = 0; k < Index(kept.size()); ++k) {
-          thinned.positions.col(k) = cand.positions.col(kept[size_t(k)]);
-          if (thinned.normals.cols() > 0) thinned.normals.col(k) = cand.normals.col(kept[size_t(k)]);
-          thinned.source[k] = cand.source[kept[size_t(k)]];
-          thinned.column[k] = cand.column[kept[size_t(k)]];
-        }
-        cand = std::move(thinned);
-      }
+      kept = thin_cloud(input.positions(), input.normals(), h);
+      if (Index(kept.size()) <= n_target) kept.clear();
     }
+    cand = kept.empty() ? cloud_candidates(input) : cloud_candidates(input, kept);
   }
   return cand;
 }

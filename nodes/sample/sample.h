@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,11 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
 // vertex normals when the mesh has them, else face normals) and face provenance, in Morton order; the same points on
 // any thread count for a seed. Throws InputError for a mesh of zero area.
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed);
+
+// The points of random_surface_points(mesh, n, seed) whose position `keep` accepts (called in parallel), positions
+// and normals, in the same order, made block by block: memory for the kept points only, never all n.
+PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
+                                     const std::function<bool(const Eigen::Vector3d&)>& keep);
 
 // Sample count that gives a mean nearest-neighbour distance of `spacing` on a surface of `area` (measured on WSE
 // output, see tests/nodes/sample_test.cpp).

@@ -1,6 +1,10 @@
 #include "nodes/transfer/transfer.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -9,13 +13,16 @@
 namespace scanfill {
 namespace {
 
-// Nearest sample of every point.
+// Nearest sample of every point, in blocks (no per-point distance array).
 std::vector<std::int32_t> nearest_samples(const PointSet& full, const Eigen::Matrix3Xd& samples) {
   KdTree tree;
   tree.build(samples);
-  std::vector<std::int32_t> nearest;
-  std::vector<double> d2;
-  nearest_each(tree, full.positions(), nearest, d2);
+  const Eigen::Matrix3Xd& P = full.positions();
+  std::vector<std::int32_t> nearest(size_t(P.cols()));
+  tbb::parallel_for(tbb::blocked_range<Index>(0, P.cols(), 4096), [&](const tbb::blocked_range<Index>& r) {
+    double d2 = 0;
+    for (Index i = r.begin(); i != r.end(); ++i) tree.knn(P.col(i), 1, &nearest[size_t(i)], &d2);
+  });
   return nearest;
 }
 
@@ -28,59 +35,75 @@ std::vector<std::vector<std::int32_t>> carried_of(const TransferPlan& plan) {
   return made;
 }
 
-// The output being filled, patch by patch.
-struct Filling {
-  Eigen::Matrix3Xd P, N;
-  Matrix3Xu8 C;       // 3 by 0 unless the plan has colours
-  Eigen::VectorXf I;  // empty unless the plan has intensity
-  std::vector<Origin> origin;
-  std::vector<std::int32_t> label;
-  std::vector<Eigen::Vector3i> tris;
-  Index next = 0;
+// One patch's view of its base input: which carried sample each point follows (-1: none).
+struct PatchInput {
+  const PointSet* full = nullptr;            // null: the patch emits nothing
+  const std::vector<std::int32_t>* nearest;  // per point of full: its nearest base sample
+  const std::vector<std::int32_t>* made;     // per base sample: the carried sample, or -1
+  std::int32_t carried(Index i) const { return (*made)[size_t((*nearest)[size_t(i)])]; }
 };
 
-// The points of `full` patch p emits (`e`: per point, the carried sample or -1), and its triangles.
-void fill_patch(const TransferPlan& plan, size_t p, const PointSet& full, const std::vector<std::int32_t>& e,
-                Filling& out) {
+// The output points patch p emits from points [begin, end) of its input, in order.
+TransferResult emit_run(const TransferPlan& plan, size_t p, const PatchInput& in, Index begin, Index end,
+                        std::vector<Index>& rows) {
   const PlanPatch& patch = plan.patches[p];
-  std::vector<std::int32_t> slot(e.size(), -1);
-  for (size_t i = 0; i < e.size(); ++i)
-    if (e[i] >= 0) slot[i] = std::int32_t(out.next++);
+  const PointSet& full = *in.full;
+  rows.clear();
+  for (Index i = begin; i < end; ++i)
+    if (in.carried(i) >= 0) rows.push_back(i);
+  const Index n = Index(rows.size());
+  Eigen::Matrix3Xd P(3, n), N(3, n);
+  Matrix3Xu8 C(3, plan.colours ? n : 0);
+  Eigen::VectorXf I(plan.intensity ? n : 0);
   const Similarity& whole = patch.whole;
-  tbb::parallel_for(size_t(0), e.size(), [&](size_t i) {
-    const auto k = e[i];
-    if (k < 0) return;
-    const Index o = slot[i];
-    // The offset moves along the sample's normal (both in the output frame).
-    out.P.col(o) = whole.apply(full.positions().col(Index(i))) + plan.shift[size_t(k)] * plan.normal.col(k);
-    out.N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(Index(i))) : plan.normal.col(k);
-    if (plan.colours) out.C.col(o) = patch.from_target ? kCopiedColour : full.colours().col(Index(i));
-    if (plan.intensity) out.I(o) = patch.from_target ? kCopiedIntensity : full.intensity()(Index(i));
-    out.origin[size_t(o)] = patch.origin;
-    out.label[size_t(o)] = patch.origin == Origin::kExemplar ? -1 : patch.label;
-  });
-  if (plan.mesh_output && full.has_faces())
-    for (Index f = 0; f < full.faces().cols(); ++f) {
-      const Eigen::Vector3i c = full.faces().col(f);
-      const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
-      if (m.minCoeff() >= 0) out.tris.push_back(m);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, 4096), [&](const tbb::blocked_range<Index>& r) {
+    for (Index o = r.begin(); o != r.end(); ++o) {
+      const Index i = rows[size_t(o)];
+      const auto k = in.carried(i);
+      // The offset moves along the sample's normal (both in the output frame).
+      P.col(o) = whole.apply(full.positions().col(i)) + plan.shift[size_t(k)] * plan.normal.col(k);
+      N.col(o) = full.has_normals() ? whole.apply_normal(full.normals().col(i)) : plan.normal.col(k);
+      if (plan.colours) C.col(o) = patch.from_target ? kCopiedColour : full.colours().col(i);
+      if (plan.intensity) I(o) = patch.from_target ? kCopiedIntensity : full.intensity()(i);
     }
+  });
+  TransferResult out;
+  out.points = PointSet(std::move(P));
+  out.points.set_normals(std::move(N));
+  if (plan.colours) out.points.set_colours(std::move(C));
+  if (plan.intensity) out.points.set_intensity(std::move(I));
+  out.origin.assign(size_t(n), patch.origin);
+  out.label.assign(size_t(n), patch.origin == Origin::kExemplar ? -1 : patch.label);
+  return out;
 }
 
-TransferResult result_of(const TransferPlan& plan, Filling&& f) {
-  TransferResult out;
-  out.points = PointSet(std::move(f.P));
-  out.points.set_normals(std::move(f.N));
-  if (plan.colours) out.points.set_colours(std::move(f.C));
-  if (plan.intensity) out.points.set_intensity(std::move(f.I));
-  out.origin = std::move(f.origin);
-  out.label = std::move(f.label);
-  if (!f.tris.empty()) {
-    Matrix3Xi F(3, Index(f.tris.size()));
-    for (size_t t = 0; t < f.tris.size(); ++t) F.col(Index(t)) = f.tris[t];
-    out.points.set_faces(std::move(F));
+// Per point of the patch's input, its output index (-1: not emitted), from `first` on; for its triangles.
+void slots_of(const PatchInput& in, Index first, std::vector<std::int32_t>& slot) {
+  slot.assign(size_t(in.full->size()), -1);
+  for (Index i = 0; i < in.full->size(); ++i)
+    if (in.carried(i) >= 0) slot[size_t(i)] = std::int32_t(first++);
+}
+
+// The triangles of the patch's input whose three corners it emits, as output indices (`slot`).
+void add_triangles(const PointSet& full, const std::vector<std::int32_t>& slot, std::vector<Eigen::Vector3i>& tris) {
+  for (Index f = 0; f < full.faces().cols(); ++f) {
+    const Eigen::Vector3i c = full.faces().col(f);
+    const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
+    if (m.minCoeff() >= 0) tris.push_back(m);
   }
-  return out;
+}
+
+// The points and triangles patch p will emit.
+std::pair<Index, Index> patch_counts(const PatchInput& in, bool mesh_output) {
+  if (!in.full) return {0, 0};
+  Index points = 0, faces = 0;
+  for (Index i = 0; i < in.full->size(); ++i) points += in.carried(i) >= 0;
+  if (mesh_output && in.full->has_faces())
+    for (Index f = 0; f < in.full->faces().cols(); ++f) {
+      const Eigen::Vector3i c = in.full->faces().col(f);
+      faces += in.carried(c(0)) >= 0 && in.carried(c(1)) >= 0 && in.carried(c(2)) >= 0;
+    }
+  return {points, faces};
 }
 
 bool uses(const TransferPlan& plan, bool from_target) {
@@ -89,22 +112,68 @@ bool uses(const TransferPlan& plan, bool from_target) {
   return false;
 }
 
+// The output of a stream gathered in one TransferResult (apply_plan): filled in place, chunk by chunk.
+struct Gathered {
+  Eigen::Matrix3Xd P, N;
+  Matrix3Xu8 C;
+  Eigen::VectorXf I;
+  std::vector<Origin> origin;
+  std::vector<std::int32_t> label;
+  Index next = 0;
+
+  void begin(const TransferPlan& plan, const TransferCounts& c) {
+    P.resize(3, c.points);
+    N.resize(3, c.points);
+    C.resize(3, plan.colours ? c.points : 0);
+    I.resize(plan.intensity ? c.points : 0);
+    origin.reserve(size_t(c.points));
+    label.reserve(size_t(c.points));
+  }
+  void add(const TransferResult& chunk) {
+    const Index n = chunk.points.size();
+    P.middleCols(next, n) = chunk.points.positions();
+    N.middleCols(next, n) = chunk.points.normals();
+    if (C.cols() > 0) C.middleCols(next, n) = chunk.points.colours();
+    if (I.size() > 0) I.segment(next, n) = chunk.points.intensity();
+    origin.insert(origin.end(), chunk.origin.begin(), chunk.origin.end());
+    label.insert(label.end(), chunk.label.begin(), chunk.label.end());
+    next += n;
+  }
+  TransferResult result(Matrix3Xi faces) {
+    TransferResult out;
+    out.points = PointSet(std::move(P));
+    out.points.set_normals(std::move(N));
+    if (C.cols() > 0) out.points.set_colours(std::move(C));
+    if (I.size() > 0) out.points.set_intensity(std::move(I));
+    if (faces.cols() > 0) out.points.set_faces(std::move(faces));
+    out.origin = std::move(origin);
+    out.label = std::move(label);
+    return out;
+  }
+};
+
+// How many random surface points copy_surface makes of `target`: 0 when it is used as it is.
+Index copy_surface_points(const PointSet& target, Index exemplar_points, Index exemplar_samples, Index target_samples) {
+  if (!target.has_faces() || exemplar_samples <= 0) return 0;
+  const double per_sample = std::max(1.0, double(exemplar_points) / double(exemplar_samples));
+  const auto wanted = Index(std::ceil(per_sample * double(target_samples)));
+  return target.size() >= wanted ? 0 : wanted;
+}
+
 }  // namespace
 
 PointSet copy_surface(const PointSet& target, Index exemplar_points, Index exemplar_samples, Index target_samples) {
-  if (!target.has_faces() || exemplar_samples <= 0) return target;
-  const double per_sample = std::max(1.0, double(exemplar_points) / double(exemplar_samples));
-  const auto wanted = Index(std::ceil(per_sample * double(target_samples)));
-  if (target.size() >= wanted) return target;
-  return random_surface_points(target, wanted, 1);
+  const Index wanted = copy_surface_points(target, exemplar_points, exemplar_samples, target_samples);
+  return wanted > 0 ? random_surface_points(target, wanted, 1) : target;
 }
 
 bool plan_copies_target(const TransferPlan& plan) {
   return uses(plan, true);
 }
 
-TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
-                          const ProgressFn& progress) {
+TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
+                           Index chunk_points, const TransferSink& sink, const ProgressFn& progress) {
+  if (chunk_points <= 0) throw InvariantError("stream_plan: chunk_points must be positive");
   if (!exemplar || !uses(plan, false)) exemplar = nullptr;
   if (!copies || !uses(plan, true)) copies = nullptr;
   if (exemplar && ((plan.colours && !exemplar->has_colours()) || (plan.intensity && !exemplar->has_intensity())))
@@ -114,43 +183,112 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
   report(progress, 0.2);
   const auto target_nearest = copies ? nearest_samples(*copies, plan.target_samples) : std::vector<int>{};
   report(progress, 0.4);
-  // Count, then fill, patch by patch.
   const size_t np = plan.patches.size();
-  std::vector<std::vector<std::int32_t>> emitted(np);  // per patch: per base point, the carried sample or -1
-  Index total = 0;
+  std::vector<PatchInput> inputs(np);
+  TransferCounts counts;
   for (size_t p = 0; p < np; ++p) {
     const bool t = plan.patches[p].from_target;
-    if (!(t ? copies : exemplar)) continue;
-    const auto& nearest = t ? target_nearest : exemplar_nearest;
-    auto& e = emitted[p];
-    e.resize(nearest.size());
-    for (size_t i = 0; i < nearest.size(); ++i) {
-      e[i] = made[p][size_t(nearest[i])];
-      total += e[i] >= 0;
-    }
+    inputs[p] = {t ? copies : exemplar, t ? &target_nearest : &exemplar_nearest, &made[p]};
+    const auto [points, faces] = patch_counts(inputs[p], plan.mesh_output);
+    counts.points += points;
+    counts.faces += faces;
+    counts.by_origin[int(plan.patches[p].origin)] += points;
   }
-  Filling out{Eigen::Matrix3Xd(3, total),
-              Eigen::Matrix3Xd(3, total),
-              Matrix3Xu8(3, plan.colours ? total : 0),
-              Eigen::VectorXf(plan.intensity ? total : 0),
-              std::vector<Origin>(size_t(total)),
-              std::vector<std::int32_t>(size_t(total)),
-              {},
-              0};
+  if (sink.begin) sink.begin(counts);
+  // Patch by patch in the plan's order, each input's points in their order: the order apply_plan always had.
+  std::vector<Index> rows;
+  std::vector<std::int32_t> slot;
+  std::vector<Eigen::Vector3i> tris;
+  Index written = 0;
   for (size_t p = 0; p < np; ++p) {
-    const PointSet* full = plan.patches[p].from_target ? copies : exemplar;
-    if (full) fill_patch(plan, p, *full, emitted[p], out);
+    const PatchInput& in = inputs[p];
+    if (!in.full) continue;
+    for (Index begin = 0; begin < in.full->size(); begin += chunk_points) {
+      const TransferResult run = emit_run(plan, p, in, begin, std::min(in.full->size(), begin + chunk_points), rows);
+      if (run.points.size() > 0) sink.points(run);
+    }
+    if (counts.faces > 0 && in.full->has_faces()) {
+      slots_of(in, written, slot);
+      add_triangles(*in.full, slot, tris);
+    }
+    written += patch_counts(in, false).first;
     report(progress, 0.4 + 0.6 * double(p + 1) / double(np));
   }
-  return result_of(plan, std::move(out));
+  if (counts.faces > 0) {
+    Matrix3Xi F(3, Index(tris.size()));
+    for (size_t t = 0; t < tris.size(); ++t) F.col(Index(t)) = tris[t];
+    sink.faces(F);
+  }
+  return counts;
+}
+
+void EveryKth::add(const TransferResult& chunk) {
+  std::vector<std::int32_t> rows;
+  for (Index first = (stride_ - seen_ % stride_) % stride_; first < chunk.points.size(); first += stride_)
+    rows.push_back(std::int32_t(first));
+  seen_ += chunk.points.size();
+  if (rows.empty()) return;
+  TransferResult part;
+  part.points = subset(chunk.points, rows);
+  for (const auto r : rows) {
+    part.origin.push_back(chunk.origin[size_t(r)]);
+    part.label.push_back(chunk.label[size_t(r)]);
+  }
+  parts_.push_back(std::move(part));
+}
+
+TransferResult EveryKth::take() {
+  Index total = 0;
+  for (const auto& p : parts_) total += p.points.size();
+  Gathered g;
+  const bool colours = !parts_.empty() && parts_[0].points.has_colours();
+  const bool intensity = !parts_.empty() && parts_[0].points.has_intensity();
+  TransferPlan shape;  // only its colours and intensity flags
+  shape.colours = colours;
+  shape.intensity = intensity;
+  TransferCounts counts;
+  counts.points = total;
+  g.begin(shape, counts);
+  for (const auto& p : parts_) g.add(p);
+  parts_.clear();
+  return g.result({});
+}
+
+TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
+                          const ProgressFn& progress) {
+  Gathered g;
+  Matrix3Xi faces;
+  const TransferSink sink{[&](const TransferCounts& c) { g.begin(plan, c); },
+                          [&](const TransferResult& chunk) { g.add(chunk); }, [&](const Matrix3Xi& f) { faces = f; }};
+  const Index most = std::max<Index>({Index(1), exemplar ? exemplar->size() : 0, copies ? copies->size() : 0});
+  stream_plan(plan, exemplar, copies, most, sink, progress);
+  return g.result(std::move(faces));
+}
+
+PointSet copied_points(const TransferPlan& plan, const PointSet& target) {
+  if (!plan_copies_target(plan)) return {};
+  std::vector<char> copied(size_t(plan.target_samples.cols()), 0);
+  for (size_t k = 0; k < plan.patch.size(); ++k)
+    if (plan.patches[size_t(plan.patch[k])].from_target) copied[size_t(plan.base[k])] = 1;
+  KdTree tree;
+  tree.build(plan.target_samples);
+  const auto keep = [&](const Eigen::Vector3d& p) {
+    std::int32_t nearest = 0;
+    double d2 = 0;
+    tree.knn(p, 1, &nearest, &d2);
+    return copied[size_t(nearest)] != 0;
+  };
+  const Index exemplar_samples = plan.exemplar_samples.cols(), target_samples = plan.target_samples.cols();
+  const Index wanted = copy_surface_points(target, plan.exemplar_points, exemplar_samples, target_samples);
+  // The target as it is (with its triangles, which copies may carry) is already in memory.
+  return wanted > 0 ? random_surface_points_where(target, wanted, 1, keep) : target;
 }
 
 TransferResult transfer_planned(const TransferPlan& plan, const PointSet* exemplar, const PointSet* target,
                                 const ProgressFn& progress) {
   if (!target || !plan_copies_target(plan)) return apply_plan(plan, exemplar, nullptr, progress);
   // Copies come from the target's surface at the exemplar's density, not from a low-poly template's few vertices.
-  const PointSet copies =
-      copy_surface(*target, plan.exemplar_points, plan.exemplar_samples.cols(), plan.target_samples.cols());
+  const PointSet copies = copied_points(plan, *target);
   return apply_plan(plan, exemplar, &copies, progress);
 }
 

@@ -22,7 +22,9 @@
 // kCopiedColour (mid grey) and kCopiedIntensity (0, a scanner's "no return"); its `origin` tells it apart.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "nodes/align/align.h"
@@ -76,6 +78,46 @@ struct TransferResult {
   std::vector<Origin> origin;       // per point
   std::vector<std::int32_t> label;  // per point
 };
+
+// What a streamed transfer will give, known before its first point (the PLY header's counts).
+struct TransferCounts {
+  Index points = 0;                // output points
+  Index faces = 0;                 // output triangles
+  Index by_origin[3] = {0, 0, 0};  // points by Origin
+};
+
+// Where a streamed transfer's output goes, in output order: the counts first, then consecutive runs of output points
+// (positions, normals, colours and intensity when the plan has them; `origin` and `label` per point; no faces), then
+// every triangle (indices into the whole output; only when counts.faces > 0).
+struct TransferSink {
+  std::function<void(const TransferCounts&)> begin;
+  std::function<void(const TransferResult&)> points;
+  std::function<void(const Matrix3Xi&)> faces;
+};
+
+// apply_plan as a stream (DESIGN section 10: memory bounded by the samples plus one chunk): the same points in the
+// same order, given to `sink` in runs of at most `chunk_points` input points' worth. Holds one int32 per input point
+// (its nearest sample) and, for a mesh exemplar, its triangles; never the whole output.
+TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
+                           Index chunk_points, const TransferSink& sink, const ProgressFn& progress = {});
+
+// Every stride-th point of a stream (output index a multiple of `stride`), gathered: a bounded picture of an output too
+// large to hold (the surface's and the preview's input). Points in stream order, with their attributes.
+class EveryKth {
+ public:
+  explicit EveryKth(Index stride) : stride_(std::max<Index>(stride, 1)) {}
+  void add(const TransferResult& chunk);
+  TransferResult take();  // the gathered points (the object is empty afterwards)
+
+ private:
+  Index stride_, seen_ = 0;
+  std::vector<TransferResult> parts_;
+};
+
+// The target's copy surface (copy_surface) reduced to the points a patch of the plan copies, in the same order: what
+// stream_plan emits of it. A random copy surface is made in blocks and filtered as it is made, so that only the copied
+// points are ever held (a 10^7-point scan's copy surface has 10^7 points, of which the copies are a few percent).
+PointSet copied_points(const TransferPlan& plan, const PointSet& target);
 
 // plan_transfer then apply_plan on the whole exemplar and, when a patch copies the target, its copy surface.
 TransferResult transfer(const TransferInputs& in, const ProgressFn& progress = {});

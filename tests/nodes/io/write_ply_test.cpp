@@ -39,6 +39,37 @@ TEST(WritePly, FailureLeavesNoFile) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
+// PlyWriter in pieces writes write_ply's bytes; a writer that stops short of its declared counts leaves no file.
+TEST(PlyWriter, PiecesGiveWritePlysBytesAndAShortFileIsRefused) {
+  test::TempDir dir;
+  PointSet mesh = make_sphere(1.0, 16);
+  mesh.set_normals(mesh.positions().colwise().normalized());
+  Matrix3Xu8 rgb = Matrix3Xu8::Constant(3, mesh.size(), 9);
+  mesh.set_colours(rgb);
+  std::vector<double> labels(size_t(mesh.size()));
+  for (size_t i = 0; i < labels.size(); ++i) labels[i] = double(i % 11) - 3;
+  const std::vector<PlyProperty> extra{{"label", PlyProperty::Type::kInt32, labels}};
+  write_ply(dir / "whole.ply", mesh, extra);
+  PlyWriter pieces(dir / "pieces.ply", ply_layout(mesh, extra));
+  for (Index start = 0; start < mesh.size(); start += 13) {
+    std::vector<std::int32_t> rows;
+    for (Index i = start; i < std::min(mesh.size(), start + 13); ++i) rows.push_back(std::int32_t(i));
+    const std::vector<double> part(labels.begin() + start, labels.begin() + start + Index(rows.size()));
+    pieces.append(subset(mesh, rows), {{"label", PlyProperty::Type::kInt32, part}});
+  }
+  pieces.append_faces(mesh.faces().leftCols(5));
+  pieces.append_faces(mesh.faces().rightCols(mesh.faces().cols() - 5));
+  pieces.commit();
+  EXPECT_EQ(test::read_bytes(dir / "pieces.ply"), test::read_bytes(dir / "whole.ply"));
+  {
+    PlyWriter short_file(dir / "short.ply", ply_layout(mesh, extra));
+    short_file.append(subset(mesh, {0, 1, 2}), {{"label", PlyProperty::Type::kInt32, {1, 2, 3}}});
+    EXPECT_THROW(short_file.commit(), InvariantError);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "short.ply"));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 2);  // no temporary left
+}
+
 TEST(WriteFileAtomic, ReplacesWholeFile) {
   test::TempDir dir;
   write_file_atomic(dir / "r.json", "first version, long");

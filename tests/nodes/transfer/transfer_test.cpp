@@ -293,6 +293,112 @@ TEST(ApplyPlan, TilesCarryTheExemplarsColoursAndIntensityCopiesTheNeutralOnes) {
   EXPECT_THROW(apply_plan(plan, &bare, nullptr), InvariantError);
 }
 
+// The whole output of stream_plan in chunks of `chunk` input points, gathered in order, and how many runs it came in.
+struct Streamed {
+  TransferResult out;
+  TransferCounts counts;
+  Index runs = 0;
+};
+Streamed stream_in_chunks(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies, Index chunk) {
+  Streamed s;
+  std::vector<Eigen::Vector3d> P, N;
+  std::vector<Eigen::Matrix<std::uint8_t, 3, 1>> C;
+  std::vector<float> I;
+  Matrix3Xi faces;
+  const TransferSink sink{[&](const TransferCounts& c) { s.counts = c; },
+                          [&](const TransferResult& run) {
+                            EXPECT_LE(run.points.size(), chunk);
+                            ++s.runs;
+                            for (Index i = 0; i < run.points.size(); ++i) {
+                              P.push_back(run.points.positions().col(i));
+                              N.push_back(run.points.normals().col(i));
+                              if (run.points.has_colours()) C.push_back(run.points.colours().col(i));
+                              if (run.points.has_intensity()) I.push_back(run.points.intensity()(i));
+                            }
+                            s.out.origin.insert(s.out.origin.end(), run.origin.begin(), run.origin.end());
+                            s.out.label.insert(s.out.label.end(), run.label.begin(), run.label.end());
+                          },
+                          [&](const Matrix3Xi& f) { faces = f; }};
+  const TransferCounts counts = stream_plan(plan, exemplar, copies, chunk, sink);
+  EXPECT_EQ(counts.points, s.counts.points);
+  Eigen::Matrix3Xd p(3, Index(P.size())), n(3, Index(N.size()));
+  for (size_t i = 0; i < P.size(); ++i) p.col(Index(i)) = P[i], n.col(Index(i)) = N[i];
+  s.out.points = PointSet(p);
+  s.out.points.set_normals(n);
+  if (!C.empty()) {
+    Matrix3Xu8 c(3, Index(C.size()));
+    for (size_t i = 0; i < C.size(); ++i) c.col(Index(i)) = C[i];
+    s.out.points.set_colours(c);
+  }
+  if (!I.empty()) s.out.points.set_intensity(Eigen::Map<const Eigen::VectorXf>(I.data(), Index(I.size())));
+  if (faces.cols() > 0) s.out.points.set_faces(faces);
+  return s;
+}
+
+// The same points in the same order, bit for bit, with the same attributes and triangles.
+void expect_identical(const TransferResult& a, const TransferResult& b) {
+  ASSERT_EQ(a.points.size(), b.points.size());
+  EXPECT_EQ(a.points.positions(), b.points.positions());
+  EXPECT_EQ(a.points.normals(), b.points.normals());
+  EXPECT_EQ(a.points.colours(), b.points.colours());
+  EXPECT_EQ(a.points.intensity(), b.points.intensity());
+  EXPECT_EQ(a.points.faces(), b.points.faces());
+  EXPECT_EQ(a.origin, b.origin);
+  EXPECT_EQ(a.label, b.label);
+}
+
+TEST(StreamPlan, ChunksOfAnySizeGiveTheWholeTransferInItsOrder) {
+  // A coloured mesh exemplar (its triangles stream after the points), two exemplar patches and a copied target.
+  TwoPatches t;
+  t.E = coloured(grid_mesh(20, 1.0));
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const TransferResult whole = transfer(t.inputs());
+  ASSERT_GT(whole.points.faces().cols(), 0);
+  const PointSet copies = copied_points(plan, t.target);
+  for (const Index chunk : {Index(1), Index(7), Index(64), Index(100000)}) {
+    SCOPED_TRACE(chunk);
+    const Streamed s = stream_in_chunks(plan, &t.E, &copies, chunk);
+    expect_identical(s.out, whole);
+    EXPECT_EQ(s.counts.faces, whole.points.faces().cols());
+    EXPECT_EQ(s.counts.by_origin[0] + s.counts.by_origin[1] + s.counts.by_origin[2], whole.points.size());
+    if (chunk == 7) EXPECT_GT(s.runs, 100);  // many chunks
+  }
+}
+
+TEST(StreamPlan, EveryKthKeepsTheOutputPointsWhoseIndexIsAMultipleOfK) {
+  TwoPatches t;
+  t.E = coloured(t.E);
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet copies = copied_points(plan, t.target);
+  const TransferResult whole = apply_plan(plan, &t.E, &copies);
+  EveryKth every(3);
+  const TransferSink sink{{}, [&](const TransferResult& run) { every.add(run); }, {}};
+  stream_plan(plan, &t.E, &copies, 7, sink);
+  const TransferResult kept = every.take();
+  std::vector<std::int32_t> rows;
+  for (Index i = 0; i < whole.points.size(); i += 3) rows.push_back(std::int32_t(i));
+  TransferResult want;
+  want.points = subset(whole.points, rows);
+  for (const auto r : rows)
+    want.origin.push_back(whole.origin[size_t(r)]), want.label.push_back(whole.label[size_t(r)]);
+  expect_identical(kept, want);
+}
+
+TEST(StreamPlan, CopiedPointsAreTheCopySurfacesCopiesWithoutTheRest) {
+  // A low-poly target (9 vertices) is copied from random points on its surface at the exemplar's density: copied_points
+  // makes them block by block and keeps the copied ones, in the order of the whole copy surface.
+  TwoPatches t;
+  t.target = grid_mesh(2, 1.0, Eigen::Vector3d(2, 0, 0));
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet surface =
+      copy_surface(t.target, plan.exemplar_points, plan.exemplar_samples.cols(), plan.target_samples.cols());
+  ASSERT_GT(surface.size(), t.target.size());  // random surface points, not the vertices
+  const PointSet copies = copied_points(plan, t.target);
+  EXPECT_GT(copies.size(), 0);
+  EXPECT_LT(copies.size(), surface.size());  // a thinned target sample's points are left out
+  expect_identical(apply_plan(plan, nullptr, &copies), apply_plan(plan, nullptr, &surface));
+}
+
 TEST(ApplyPlan, PointsOutsideThePlansScanAreFound) {
   const TwoPatches t;
   const TransferPlan plan = plan_transfer(t.inputs());
