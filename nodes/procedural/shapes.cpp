@@ -480,7 +480,8 @@ PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int 
   AxialSamples a = axial_samples(model.positions(), axis, rings);
   if (!(a.height > 0)) throw InputError("a body of revolution needs a model with some extent along its axis");
   const std::vector<double> smooth = smoothed_profile(median_radii(a.bins));
-  const auto [u, v] = frame_across(axis.direction);
+  const std::pair<Eigen::Vector3d, Eigen::Vector3d> frame = frame_across(axis.direction);
+  const Eigen::Vector3d u = frame.first, v = frame.second;  // not a structured binding: clang cannot capture one
   const double start = a.start, height = a.height;
   MeshBuilder m;
   m.grid(
