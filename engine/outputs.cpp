@@ -419,6 +419,22 @@ nlohmann::json write_exchange_pair(const RunState& state, const Exchanged& x, Ru
           {"energy", {{"before", a.energy_before}, {"after", a.energy_after}}}};
 }
 
+// What every report ends with (each node's wall time, peak memory, the warnings); then report.json is written and,
+// every file being written, all of them are flushed and moved into the output folder together.
+void write_report_and_commit(RunState& state, Staging& staging, nlohmann::json& report, RunOutcome& outcome) {
+  nlohmann::json node_list = nlohmann::json::array();
+  for (const auto& t : state.timings()) node_list.push_back({{"name", t.name}, {"wall_s", t.wall_s}});
+  report["nodes"] = node_list;
+  report["peak_rss_mb"] = peak_rss_mb();
+  report["warnings"] = state.warnings();
+  const std::filesystem::path report_path = state.write_dir / "report.json";
+  write_file_atomic(report_path, report.dump(2) + "\n");
+  outcome.outputs.push_back(report_path);
+  std::vector<std::string> names;
+  for (const auto& out : outcome.outputs) names.push_back(out.filename().string());
+  outcome.outputs = staging.commit(names);
+}
+
 // Mode exchange: every pair's files, then report.json: inputs with their boxes, pairs with their box-wise analogy.
 RunOutcome write_exchange_outputs(RunState& state, Staging& staging) {
   RunOutcome outcome;
@@ -433,20 +449,9 @@ RunOutcome write_exchange_outputs(RunState& state, Staging& staging) {
     if (x->pair < n_targets) targets.push_back(parts_json(*x->target_parts));
   }
   state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  nlohmann::json node_list = nlohmann::json::array();
-  for (const auto& t : state.timings()) node_list.push_back({{"name", t.name}, {"wall_s", t.wall_s}});
-  const nlohmann::json report = {{"mode", "exchange"},
-                                 {"inputs", {{"exemplars", exemplars}, {"targets", targets}}},
-                                 {"pairs", pairs},
-                                 {"nodes", node_list},
-                                 {"peak_rss_mb", peak_rss_mb()},
-                                 {"warnings", state.warnings()}};
-  const std::filesystem::path report_path = state.write_dir / "report.json";
-  write_file_atomic(report_path, report.dump(2) + "\n");
-  outcome.outputs.push_back(report_path);
-  std::vector<std::string> names;
-  for (const auto& out : outcome.outputs) names.push_back(out.filename().string());
-  outcome.outputs = staging.commit(names);
+  nlohmann::json report = {
+      {"mode", "exchange"}, {"inputs", {{"exemplars", exemplars}, {"targets", targets}}}, {"pairs", pairs}};
+  write_report_and_commit(state, staging, report, outcome);
   std::ostringstream s;
   s << "scanfill: style exchange of " << exemplars.size() << " exemplars and " << targets.size()
     << " targets: " << pairs.size() << " outputs in " << state.config.output_dir.string() << "\n"
@@ -588,20 +593,9 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
     write_preview(state, outcome);
   state.record("write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
-  nlohmann::json node_list = nlohmann::json::array();
-  for (const auto& t : state.timings()) node_list.push_back({{"name", t.name}, {"wall_s", t.wall_s}});
   report["transforms"] = transforms;
   report["energy"] = energy;
-  report["nodes"] = node_list;
-  report["peak_rss_mb"] = peak_rss_mb();
-  report["warnings"] = state.warnings();
-  const std::filesystem::path report_path = state.write_dir / "report.json";
-  write_file_atomic(report_path, report.dump(2) + "\n");
-  outcome.outputs.push_back(report_path);
-  // Every file is written: flush them and move them into the output folder together.
-  std::vector<std::string> names;
-  for (const auto& out : outcome.outputs) names.push_back(out.filename().string());
-  outcome.outputs = staging.commit(names);
+  write_report_and_commit(state, staging, report, outcome);
   outcome.summary = summary(config, report, bool(state.output()));
   outcome.nodes = state.timings();
   outcome.warnings = state.warnings();
