@@ -1,24 +1,19 @@
 #include "nodes/correspond/correspond.h"
 
-#include <ceres/ceres.h>
 #include <lemon/network_simplex.h>
 #include <lemon/smart_graph.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "nodes/core/ceres_summary.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/icp.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/correspond/correspond_options.h"
-#include "nodes/correspond/data_cost.h"
 #include "nodes/correspond/deformation_node.h"
-#include "nodes/correspond/rotation_cost.h"
-#include "nodes/correspond/smooth_cost.h"
+#include "nodes/correspond/deformation_solve.h"
 #include "nodes/io/read_pp.h"
 #include "nodes/sample/sample.h"
 
@@ -223,48 +218,32 @@ class Deformation {
                       const std::vector<std::int32_t>& match, const PointSet& source, double spacing,
                       const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& landmarks, double stiffness,
                       const CorrespondOptions& o) {
-    ceres::Problem::Options po;
-    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    ceres::HuberLoss huber(o.robust_scale);
-    auto add_data = [&](const Eigen::Vector3d& p, const Binding& b, const Eigen::Vector3d& q, const Eigen::Vector3d& n,
-                        double weight, double plane, ceres::LossFunction* loss) {
-      std::array<Eigen::Vector3d, kNodesPerPoint> g;
-      for (int i = 0; i < kNodesPerPoint; ++i) g[size_t(i)] = nodes_.col(b.node[size_t(i)]);
-      problem.AddResidualBlock(DataCost::Create(p, q, n, g, b.weight, 1.0 / spacing, std::sqrt(weight), plane), loss,
-                               &params_[size_t(b.node[0]) * 12], &params_[size_t(b.node[1]) * 12],
-                               &params_[size_t(b.node[2]) * 12], &params_[size_t(b.node[3]) * 12]);
+    DeformationProblem problem;
+    problem.nodes = nodes_;
+    problem.edges = edges_;
+    problem.huber = o.robust_scale;
+    const auto add_data = [&](const Eigen::Vector3d& p, const Binding& b, const Eigen::Vector3d& q,
+                              const Eigen::Vector3d& n, double weight, double plane, bool robust) {
+      problem.data.push_back({p, q, n, b.node, b.weight, std::sqrt(weight) / spacing, plane, robust});
     };
     // A deformation graph of ~150 nodes is fixed by a few thousand data terms: take every stride-th matched sample
     // (weighted by the stride, so the balance with stiffness does not change).
     const size_t stride = std::max<size_t>(1, match.size() / size_t(std::max<Index>(1, o.deformation_samples)));
+    problem.data.reserve(match.size() / stride + landmarks.size() + 1);
     for (size_t e = 0; e < match.size(); e += stride) {
       if (match[e] < 0) continue;
       const Eigen::Vector3d n =
           source.has_normals() ? Eigen::Vector3d(source.normals().col(match[e])) : Eigen::Vector3d::Zero();
-      add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, double(stride), 1.0, &huber);
+      add_data(points.col(Index(e)), bindings[e], source.positions().col(match[e]), n, double(stride), 1.0, true);
     }
     // Data terms per node: rigidity and smoothness are weighted by it, so stiffness means the same at any sample
     // count, and a landmark outweighs a whole node's data terms (a constraint, not one more sample).
     const double per_node = double(std::max<Index>(1, Index(match.size()))) / double(nodes_.cols());
     for (const auto& [p, q] : landmarks)
-      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node, 0.0, nullptr);
-    for (Index j = 0; j < nodes_.cols(); ++j)
-      problem.AddResidualBlock(RotationCost::Create(std::sqrt(stiffness * per_node)), nullptr,
-                               &params_[size_t(j) * 12]);
-    const double edge_weight = stiffness * per_node / double(std::max(1, o.node_neighbors));
-    for (const auto& [j, k] : edges_)
-      problem.AddResidualBlock(SmoothCost::Create(nodes_.col(j), nodes_.col(k), std::sqrt(edge_weight) / node_spacing_),
-                               nullptr, &params_[size_t(j) * 12], &params_[size_t(k) * 12]);
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    so.max_num_iterations = 10;
-    so.num_threads = std::max(1, tbb::this_task_arena::max_concurrency());
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    return summarize(summary);
+      add_data(p, bind(p), q, Eigen::Vector3d::Zero(), o.landmark_weight * per_node, 0.0, false);
+    problem.rotation_scale = std::sqrt(stiffness * per_node);
+    problem.edge_scale = std::sqrt(stiffness * per_node / double(std::max(1, o.node_neighbors))) / node_spacing_;
+    return solve_deformation(problem, params_, 10);
   }
 
  private:

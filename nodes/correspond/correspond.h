@@ -2,13 +2,14 @@
 //
 // The exemplar samples are registered to the source samples, rigidly first (trimmed point-to-plane ICP from the
 // given, roughly aligned pose), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
-// deformation nodes, each with an affine map and a translation, solved with Ceres (sparse normal Cholesky, Huber loss
-// on the data terms). Registration alternates with an assignment: eq. 1's cost (squared distance in the common frame,
-// in alpha units, plus normal_weight (1 - n_e . n_s)) on a sparse graph of each exemplar sample's `candidates` nearest
-// source samples, plus an escape arc (left unmatched at the cost of escape_distance alpha), solved exactly as a
-// min-cost flow (LEMON NetworkSimplex, integer costs). A source sample may take up to `many_to_one` exemplar samples,
-// so partial and many-to-one matching are allowed. The deformation's stiffness starts at `stiffness` and halves every
-// outer iteration. User landmarks (exemplar point -> source point) enter as heavily weighted data terms.
+// deformation nodes, each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations
+// assembled in parallel and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration
+// alternates with an assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight
+// (1 - n_e . n_s)) on a sparse graph of each exemplar sample's `candidates` nearest source samples, plus an escape arc
+// (left unmatched at the cost of escape_distance alpha), solved exactly as a min-cost flow (LEMON NetworkSimplex,
+// integer costs). A source sample may take up to `many_to_one` exemplar samples, so partial and many-to-one matching
+// are allowed. The deformation's stiffness starts at `stiffness` and halves every outer iteration. User landmarks
+// (exemplar point -> source point) enter as heavily weighted data terms.
 //
 // Every source sample ends up matched: one with no exemplar sample of its own takes that of its nearest matched
 // neighbour. Throws InputError when the inputs cannot be registered: too few samples, or no

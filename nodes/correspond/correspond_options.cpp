@@ -6,7 +6,8 @@ OptionTable option_table(CorrespondOptions& co) {
   using namespace checks;
   return {
       "correspond",
-      "dense exemplar <-> source map (paper section 4): rigid ICP, then embedded deformation (Ceres) alternating "
+      "dense exemplar <-> source map (paper section 4): rigid ICP, then embedded deformation (block-sparse "
+      "Levenberg-Marquardt) alternating "
       "with a min-cost-flow assignment (LEMON)",
       {{"rigid", &co.rigid, "rigid pre-alignment by ICP (inputs must be roughly aligned)", any()},
        {"rigid_iterations", &co.rigid_iterations, "ICP steps; [1, 500]",

@@ -1,5 +1,8 @@
-// correspond's cost functors (issue 9): DataCost's hand-written Jacobian against numeric differentiation at random
-// configurations, and every functor's residuals at configurations with known answers.
+// correspond's embedded deformation against Ceres (issues 9 and 13): the cost functors here are the reference model
+// (DataCost's hand-written Jacobian against numeric differentiation, every functor's residuals at configurations with
+// known answers), and solve_deformation, which assembles the normal equations itself, must reach the minimum Ceres
+// reaches on the same problem.
+#include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,10 +11,12 @@
 #include <random>
 #include <vector>
 
+#include "data_cost.h"
 #include "gradient_check.h"
-#include "nodes/correspond/data_cost.h"
-#include "nodes/correspond/rotation_cost.h"
-#include "nodes/correspond/smooth_cost.h"
+#include "nodes/core/kdtree.h"
+#include "nodes/correspond/deformation_solve.h"
+#include "rotation_cost.h"
+#include "smooth_cost.h"
 
 namespace scanfill {
 namespace {
@@ -126,6 +131,116 @@ TEST(SmoothCost, ComparesNodeJsPredictionWithNodeKsTranslation) {
   EXPECT_NEAR(r[0], -scale * 0.1, 1e-12);
   EXPECT_NEAR(r[1], 0, 1e-12);
   EXPECT_NEAR(r[2], 0, 1e-12);
+}
+
+// A bent sheet of 240 exemplar points bound to 12 nodes, its goals a smooth bend away with noise, some outliers beyond
+// the Huber scale, a landmark, and smooth edges to each node's 4 nearest.
+DeformationProblem random_problem(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  DeformationProblem pr;
+  pr.nodes.resize(3, 12);
+  for (Index j = 0; j < 12; ++j) pr.nodes.col(j) = Eigen::Vector3d(u(rng), u(rng), 0.2 * u(rng));
+  KdTree tree;
+  tree.build(pr.nodes);
+  for (int i = 0; i < 240; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), 0.2 * u(rng));
+    std::array<std::int32_t, kNodesPerPoint + 1> idx;
+    std::array<double, kNodesPerPoint + 1> d2;
+    tree.knn(p, kNodesPerPoint + 1, idx.data(), d2.data());
+    DeformationDataTerm t;
+    double sum = 0;
+    for (int a = 0; a < kNodesPerPoint; ++a) {
+      t.node[size_t(a)] = idx[size_t(a)];
+      t.weight[size_t(a)] = std::pow(1 - std::sqrt(d2[size_t(a)] / d2[kNodesPerPoint]), 2) + 1e-9;
+      sum += t.weight[size_t(a)];
+    }
+    for (auto& w : t.weight) w /= sum;
+    t.p = p;
+    t.q =
+        p + Eigen::Vector3d(0.05 * p.y(), 0.02, 0.1 * p.x() * p.x()) + 0.005 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    if (i % 40 == 0) t.q.z() += 0.3;  // an outlier, far beyond the Huber scale
+    t.n = Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 1).normalized();
+    t.scale = 1.0 / 0.02;
+    t.plane = i == 0 ? 0.0 : 1.0;
+    t.robust = i != 0;  // term 0 plays a landmark: point-to-point, no loss
+    pr.data.push_back(t);
+  }
+  for (std::int32_t j = 0; j < 12; ++j) {
+    std::array<std::int32_t, 5> idx;
+    std::array<double, 5> d2;
+    tree.knn(pr.nodes.col(j), 5, idx.data(), d2.data());
+    for (int a = 1; a < 5; ++a) pr.edges.emplace_back(j, idx[size_t(a)]);
+  }
+  pr.rotation_scale = std::sqrt(20.0);
+  pr.edge_scale = std::sqrt(5.0);
+  pr.huber = 2.0;
+  return pr;
+}
+
+// The same problem with the reference functors, solved by Ceres to tight tolerances.
+double solve_with_ceres(const DeformationProblem& pr, std::vector<double>& x) {
+  ceres::Problem problem;
+  ceres::HuberLoss* huber = new ceres::HuberLoss(pr.huber);
+  for (const DeformationDataTerm& t : pr.data) {
+    std::array<Eigen::Vector3d, kNodesPerPoint> g;
+    for (int i = 0; i < kNodesPerPoint; ++i) g[size_t(i)] = pr.nodes.col(t.node[size_t(i)]);
+    problem.AddResidualBlock(DataCost::Create(t.p, t.q, t.n, g, t.weight, t.scale, 1.0, t.plane),
+                             t.robust ? huber : nullptr, &x[size_t(t.node[0]) * 12], &x[size_t(t.node[1]) * 12],
+                             &x[size_t(t.node[2]) * 12], &x[size_t(t.node[3]) * 12]);
+  }
+  for (Index j = 0; j < pr.nodes.cols(); ++j)
+    problem.AddResidualBlock(RotationCost::Create(pr.rotation_scale), nullptr, &x[size_t(j) * 12]);
+  for (const auto& [j, k] : pr.edges)
+    problem.AddResidualBlock(SmoothCost::Create(pr.nodes.col(j), pr.nodes.col(k), pr.edge_scale), nullptr,
+                             &x[size_t(j) * 12], &x[size_t(k) * 12]);
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  so.max_num_iterations = 200;
+  so.function_tolerance = 1e-14;
+  so.parameter_tolerance = 1e-14;
+  so.gradient_tolerance = 1e-14;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return summary.final_cost;
+}
+
+std::vector<double> identity_params(Index nodes) {
+  std::vector<double> x(size_t(nodes) * 12, 0.0);
+  for (Index j = 0; j < nodes; ++j) x[size_t(j) * 12] = x[size_t(j) * 12 + 4] = x[size_t(j) * 12 + 8] = 1.0;
+  return x;
+}
+
+TEST(SolveDeformation, ReachesCeresMinimumWithHuberLandmarkAndEdges) {
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 3; ++trial) {
+    const DeformationProblem pr = random_problem(rng);
+    std::vector<double> ours = identity_params(pr.nodes.cols()), theirs = ours;
+    const double initial = deformation_cost(pr, ours);
+    const SolverSummary s = solve_deformation(pr, ours, 50);
+    const double reference = solve_with_ceres(pr, theirs);
+    EXPECT_EQ(s.termination, "CONVERGENCE") << trial;
+    EXPECT_NEAR(s.initial_cost, initial, 1e-9 * initial);
+    EXPECT_NEAR(s.final_cost, deformation_cost(pr, ours), 1e-9 * initial);
+    EXPECT_LT(reference, 0.5 * initial) << trial;  // the problem is not trivial
+    EXPECT_NEAR(s.final_cost, reference, 1e-5 * reference) << trial;
+    double largest = 0;
+    for (size_t i = 0; i < ours.size(); ++i) largest = std::max(largest, std::abs(ours[i] - theirs[i]));
+    EXPECT_LT(largest, 1e-3) << trial;
+  }
+}
+
+TEST(SolveDeformation, CostOfIdentityIsTheDataOffsets) {
+  std::mt19937 rng(5);
+  DeformationProblem pr = random_problem(rng);
+  pr.data.resize(3);
+  for (auto& t : pr.data) t.robust = false;
+  double expected = 0;
+  for (const auto& t : pr.data) {
+    const Eigen::Vector3d d = (t.p - t.q) * t.scale;
+    expected += 0.5 * (0.25 * d.squaredNorm() + std::pow(t.plane * d.dot(t.n), 2));
+  }
+  // Identity nodes: rotation and smooth terms vanish, each data term is its undeformed offset.
+  EXPECT_NEAR(deformation_cost(pr, identity_params(pr.nodes.cols())), expected, 1e-9 * expected);
 }
 
 }  // namespace
