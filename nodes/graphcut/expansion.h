@@ -13,7 +13,9 @@
 // test, which includes h_a, decides exactly. A move is accepted only if it lowers the true energy E, computed locally
 // from the switching sites and their edges (V need not be a metric everywhere: non-submodular move terms are
 // truncated, so a move can be suboptimal, never accepted if worse). All buffers, the flow graph's included, are
-// reused from move to move.
+// reused from move to move. With two threads, the move on label a + 1 is computed beside the move on a, from the same
+// labelling, and used only when a is rejected (most moves are, after the first sweep): the result is the sequential
+// sweep's, bit for bit.
 #pragma once
 
 #include <functional>

@@ -5,6 +5,8 @@
 
 #include <random>
 
+#include <tbb/task_arena.h>
+
 #include "nodes/core/errors.h"
 #include "nodes/graphcut/binary_energy.h"
 
@@ -198,6 +200,49 @@ TEST(Expansion, LocalEnergyChangesAddUpToTheTrueEnergy) {
         std::count(used_before.begin(), used_before.end(), 1) - std::count(used_after.begin(), used_after.end(), 1);
   }
   EXPECT_GT(emptied, 0);  // label costs emptied labels: the auxiliary-variable construction was exercised
+}
+
+// 600 sites on a ring with chords, 6 labels feasible on overlapping arcs, label costs: many moves, most rejected
+// after the first sweep.
+LabelingProblem ring_problem(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const int sites = 600, labels = 6;
+  LabelingProblem p;
+  p.labels = labels;
+  for (int i = 0; i < sites; ++i) {
+    std::vector<std::pair<int, double>> costs{{0, 2.0 + u(rng)}};
+    for (int l = 1; l < labels; ++l)
+      if (std::abs(i - 100 * l) < 150 || u(rng) < 0.05) costs.push_back({l, 3.0 * u(rng)});
+    p.add_site(costs);
+  }
+  for (int i = 0; i < sites; ++i) {
+    p.edges.push_back({i, (i + 1) % sites});
+    if (u(rng) < 0.3) p.edges.push_back({i, int(u(rng) * (sites - 1) + 1 + i) % sites});
+  }
+  std::vector<double> position(static_cast<size_t>(labels));
+  for (auto& x : position) x = u(rng);
+  p.pairwise = [position](Index, int a, int b) { return 0.2 + std::abs(position[size_t(a)] - position[size_t(b)]); };
+  p.label_cost.assign(size_t(labels), 0.0);
+  for (int l = 1; l < labels; ++l) p.label_cost[size_t(l)] = 40 * u(rng);
+  return p;
+}
+
+TEST(Expansion, TwoThreadsGiveTheSequentialSweepBitForBit) {
+  // With two threads the move on a + 1 is computed beside the move on a and used only when a is rejected.
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 6; ++trial) {
+    const LabelingProblem p = ring_problem(rng);
+    ExpansionResult one, two;
+    tbb::task_arena(1).execute([&] { one = alpha_expansion(p, std::vector<int>(600, 0)); });
+    tbb::task_arena(2).execute([&] { two = alpha_expansion(p, std::vector<int>(600, 0)); });
+    EXPECT_EQ(one.labeling, two.labeling) << trial;
+    EXPECT_EQ(one.energy_trace, two.energy_trace) << trial;
+    EXPECT_EQ(one.moves_accepted, two.moves_accepted) << trial;
+    EXPECT_EQ(one.truncated_terms, two.truncated_terms) << trial;
+    EXPECT_EQ(one.cycles, two.cycles) << trial;
+    EXPECT_GT(one.moves_accepted, 3) << trial;  // accepted and rejected moves both occur
+    EXPECT_LT(one.moves_accepted, one.cycles * 6) << trial;
+  }
 }
 
 TEST(Expansion, RefusesAnInfeasibleStart) {
