@@ -1,12 +1,16 @@
 #include "nodes/align/align.h"
 
+#include <ceres/ceres.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <array>
 #include <cmath>
 
 #include "nodes/align/align_options.h"
-#include "nodes/align/offsets.h"
+#include "nodes/align/linear_pair_cost.h"
+#include "nodes/align/pull_cost.h"
+#include "nodes/core/ceres_summary.h"
 #include "nodes/core/kdtree.h"
 
 namespace scanfill {
@@ -37,7 +41,9 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
   const auto fixed = [&](Index i) { return s.origin[size_t(i)] == Origin::kExemplar; };
   const double pair2 = std::pow(o.pair_distance * spacing, 2), cos_limit = 0.5;
   std::vector<Seam> seams;
-  std::vector<PairTerm> terms;
+  ceres::Problem::Options po;
+  ceres::Problem problem(po);
+  for (Index i = 0; i < n; ++i) problem.AddParameterBlock(&r.offset[size_t(i)], 1);
   const double inv = 1.0 / spacing;
   for (Index i = 0; i < n; ++i)
     for (int a = 0; a < k; ++a) {
@@ -47,15 +53,26 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
       const double ni_nj = N.col(i).dot(N.col(j));
       if (ni_nj < cos_limit) continue;
       if (s.patch[size_t(i)] == s.patch[size_t(j)]) {
-        if (o.keep_weight > 0) terms.push_back({std::int32_t(i), j, std::sqrt(o.keep_weight) * inv, 0, 1, -1});
+        if (o.keep_weight > 0)
+          problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.keep_weight) * inv, 0, 1, -1), nullptr,
+                                   &r.offset[size_t(i)], &r.offset[size_t(j)]);
         continue;
       }
       if (dist2[size_t(i) * size_t(k) + size_t(a)] > pair2) continue;
       const Eigen::Vector3d m = (N.col(i) + N.col(j)).normalized();
       const Seam seam{std::int32_t(i), j, (P.col(i) - P.col(j)).dot(m), N.col(i).dot(m), -N.col(j).dot(m)};
       seams.push_back(seam);
-      if (o.gap_weight > 0) terms.push_back({seam.i, seam.j, std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b});
+      if (o.gap_weight > 0)
+        problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b), nullptr,
+                                 &r.offset[size_t(i)], &r.offset[size_t(j)]);
     }
+  for (Index i = 0; i < n; ++i) {
+    if (fixed(i)) {
+      problem.SetParameterBlockConstant(&r.offset[size_t(i)]);
+    } else {
+      problem.AddResidualBlock(PullCost::Create(std::sqrt(o.pull) * inv), nullptr, &r.offset[size_t(i)]);
+    }
+  }
   const auto rms_gap = [&] {
     double sum = 0;
     for (const auto& q : seams) sum += std::pow(q.c + q.a * r.offset[size_t(q.i)] + q.b * r.offset[size_t(q.j)], 2);
@@ -64,9 +81,14 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
   r.seam_pairs = Index(seams.size());
   r.gap_before = rms_gap();
   if (!seams.empty()) {
-    std::vector<std::uint8_t> is_free(static_cast<size_t>(n));
-    for (Index i = 0; i < n; ++i) is_free[size_t(i)] = !fixed(i);
-    r.solver = solve_offsets(terms, is_free, o.pull * inv * inv, r.offset);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.max_num_iterations = 5;
+    so.num_threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    r.solver = summarize(summary);
   }
   r.gap_after = rms_gap();
 

@@ -7,9 +7,9 @@
 //   sum over neighbours (i, j) of the same patch: keep_weight (d_i - d_j)^2   (each patch keeps its shape);
 //   sum over i: pull (d_i)^2                                                  (v = 0.01 of the paper: stay near the
 //   start).
-// The problem is linear: one sparse LDL^T solve of its normal equations gives the minimum (offsets.h). Afterwards, an
-// extension-ring sample that lies within `thin_distance` alpha of another patch's non-ring sample is dropped, so
-// overlaps do not double the density.
+// The problem is linear: Ceres (sparse normal Cholesky) converges in one step. Afterwards, an extension-ring sample
+// that lies within `thin_distance` alpha of another patch's non-ring sample is dropped, so overlaps do not double the
+// density.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +35,7 @@ struct AlignResult {
   std::vector<std::uint8_t> keep;  // per synthesis point: 0 when thinned out
   Index seam_pairs = 0;
   double gap_before = 0, gap_after = 0;  // RMS normal gap over the seam pairs, model units
-  std::optional<SolverSummary> solver;   // the solve's costs; none without seam pairs (nothing to solve)
+  std::optional<SolverSummary> solver;   // Ceres' summary of the solve; none without seam pairs (nothing to solve)
 };
 
 AlignResult align(const Synthesis& synthesis, double spacing, const AlignOptions& options);
