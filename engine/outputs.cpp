@@ -110,7 +110,7 @@ nlohmann::json write_samples(const RunState& state, RunOutcome& outcome) {
     outcome.outputs.push_back(out);
     inputs[role] = {{"path", input_name(config.inputs[slot].spec)},
                     {"format", load.format},
-                    {"points", load.points.size()},
+                    {"points", loaded.points()},
                     {"faces", load.points.faces().cols()},
                     {"dropped_nonfinite", load.dropped_nonfinite},
                     {"bbox", {json_vec(loaded.box.min), json_vec(loaded.box.max)}},

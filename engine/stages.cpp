@@ -9,6 +9,7 @@
 #include "engine/outputs.h"
 #include "nodes/core/errors.h"
 #include "nodes/io/read_part_labels.h"
+#include "nodes/io/read_ply_chunks.h"
 #include "nodes/procedural/castle.h"
 #include "nodes/scan/virtual_scan.h"
 
@@ -101,10 +102,63 @@ LoadResult load_as_run(const RunConfig& config, const Input& input) {
   return load;
 }
 
+namespace {
+
+// Input points per run of the streamed transfer (and of a streamed scan's reading): its buffers are about 100 bytes a
+// point.
+constexpr Index kTransferChunk = Index(1) << 20;
+// A streamed scan's every-k-th points kept by its load: its area estimate, scale check and picture.
+constexpr Index kStreamedSummaryPoints = Index(1) << 21;
+
+// Whether the input is read in chunks (load.stream_above): a scan or exemplar that is one binary PLY of more points
+// than that, not virtually scanned, in a mode that carries it by the transfer.
+bool streams(const RunConfig& config, const Input& input) {
+  if (config.load.stream_above <= 0 || !input.fragments.empty() || input.spec.path.empty()) return false;
+  if (config.mode != RunMode::kCompletion && config.mode != RunMode::kTransfer) return false;
+  if (input.role != Role::kScan && input.role != Role::kExemplar) return false;
+  if (input.role == Role::kScan && config.virtual_scan.eye) return false;
+  const auto header = read_header(input.spec.path);
+  return header && header->format == "ply" && header->encoding != "ascii" && header->points > config.load.stream_above;
+}
+
+// The load of a streamed input: one pass over its file for the count, the bounds and every k-th point.
+LoadedPtr load_streamed(const Input& input) {
+  auto streamed = std::make_shared<Streamed>();
+  streamed->path = input.spec.path;
+  PlyChunkReader reader(streamed->path);
+  streamed->summary = summarize_chunks(reader, kTransferChunk, kStreamedSummaryPoints);
+  if (streamed->summary.points == 0)
+    throw IoError(streamed->path.string() + ": has no point with finite coordinates (" + std::to_string(reader.rows()) +
+                  " points read)");
+  LoadResult load;
+  load.points = streamed->summary.every_kth;
+  load.format = "ply";
+  load.encoding = read_header(streamed->path)->encoding;
+  load.file_points = reader.rows();
+  load.dropped_nonfinite = reader.dropped_nonfinite();
+  if (load.dropped_nonfinite > 0)
+    load.warnings.push_back(std::to_string(load.dropped_nonfinite) + " of " + std::to_string(load.file_points) +
+                            " points have non-finite coordinates and were dropped");
+  const BoundingBox box = streamed->summary.bounds;
+  return std::make_shared<const Loaded>(Loaded{input, std::move(load), box, nullptr, std::move(streamed)});
+}
+
+}  // namespace
+
 LoadedPtr load_stage(RunState& state, const Input& input) {
   const std::string role = role_name(input.role), name = "load:" + role;
   const std::string subject = input_subject(input);
   return run_node(state, name, subject, [&](const ProgressFn&) {
+    if (streams(state.config, input)) {
+      if (state.config.output_colour == ColourChoice::kScan)
+        throw InputError("output.colour is 'scan' but the " + role + " is read in chunks, without colours");
+      LoadedPtr loaded = load_streamed(input);
+      for (const auto& w : loaded->load.warnings) state.warn(name, w);
+      node_logger("load")->info("{}: {} points read in chunks of {} ({} {}), not held; {} kept for its summary", role,
+                                loaded->points(), kTransferChunk, loaded->load.format, loaded->load.encoding,
+                                loaded->load.points.size());
+      return loaded;
+    }
     LoadResult load = load_as_run(state.config, input);
     // output.colour: scan asks for colours the output's points can only take from this input.
     if (state.config.output_colour == ColourChoice::kScan &&
@@ -136,7 +190,13 @@ SampledPtr sample_stage(RunState& state, const LoadedPtr& in, const SampledPtr& 
         options.all_points_when_sparse = true;  // a scan sparser than the template's alpha is used as it is
       }
     }
-    auto out = std::make_shared<Sampled>(Sampled{in, sample(in->load.points, options, progress), nullptr});
+    std::optional<PlyChunkReader> reader;
+    if (in->streamed) reader.emplace(in->streamed->path);
+    auto out = std::make_shared<Sampled>(
+        Sampled{in,
+                in->streamed ? sample_chunks(*reader, in->streamed->summary, options, kTransferChunk, progress)
+                             : sample(in->load.points, options, progress),
+                nullptr});
     for (const auto& w : out->sample.warnings) state.warn(name, w);
     node_logger("sample")->info("{}: {} samples from {} candidates, spacing {:.4g}, {} rounds", role,
                                 out->sample.samples.size(), out->sample.candidates, out->sample.spacing,
@@ -417,7 +477,13 @@ PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame)
                                 syn.synthesis,
                                 in->alignment,
                                 to_scan_frame ? c.map.rigid.inverse() : Similarity{}};
-    auto out = std::make_shared<Planned>(Planned{in, plan_transfer(inputs)});
+    TransferPlan plan = plan_transfer(inputs);
+    if (const auto& streamed = c.exemplar->sampled->loaded->streamed) {
+      // load.points hold only its summary's points: the plan counts and bounds the whole file.
+      plan.exemplar_points = streamed->summary.points;
+      plan.exemplar_bounds = streamed->summary.bounds;
+    }
+    auto out = std::make_shared<Planned>(Planned{in, std::move(plan)});
     node_logger("plan")->info("{} patches, {} carried samples", out->plan.patches.size(), out->plan.patch.size());
     state.keep(out);
     return PlannedPtr(std::move(out));
@@ -425,9 +491,6 @@ PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame)
 }
 
 namespace {
-
-// Input points per run of the streamed transfer: its buffers are about 100 bytes a point.
-constexpr Index kTransferChunk = Index(1) << 20;
 
 // The output points the transfer's message keeps for the surface and the preview: all of them up to this many (and
 // always in mode curves, whose drawing orders every point), else every stride-th point, about this many. The surface
@@ -469,7 +532,12 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
                               kept->add(run);
                             },
                             [&](const Matrix3Xi& faces) { writer->append_faces(faces); }};
-    out->counts = stream_plan(plan, &exemplar, &copies, kTransferChunk, sink, progress);
+    if (const auto& streamed = syn.correspondence->exemplar->sampled->loaded->streamed) {
+      PlyChunkReader reader(streamed->path);  // the scan a run at a time, as the sample node read it
+      out->counts = stream_plan_chunks(plan, reader, streamed->summary.points, &copies, kTransferChunk, sink, progress);
+    } else {
+      out->counts = stream_plan(plan, &exemplar, &copies, kTransferChunk, sink, progress);
+    }
     writer->commit();
     out->kept = kept->take();
     node_logger("transfer")

@@ -16,17 +16,26 @@
 #include "nodes/curves/curves.h"
 #include "nodes/curves/sample_curves.h"
 #include "nodes/exchange/exchange.h"
+#include "nodes/sample/sample.h"
 #include "nodes/surface/surface.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"
 
 namespace scanfill {
 
+// A scan read in chunks (load.stream_above): its file, read again by the sample and transfer nodes, and what the load's
+// pass over it found (load.points then holds only the summary's every-k-th points).
+struct Streamed {
+  std::filesystem::path path;
+  ChunksSummary summary;
+};
 struct Loaded {
   Input input;
   LoadResult load;
-  BoundingBox box;                       // of load.points, for the report
-  std::shared_ptr<const Curves> curves;  // mode curves: the drawing (load.points are its samples once sampled)
+  BoundingBox box;                           // of load.points (of every point when streamed), for the report
+  std::shared_ptr<const Curves> curves;      // mode curves: the drawing (load.points are its samples once sampled)
+  std::shared_ptr<const Streamed> streamed;  // set when the input is read in chunks, never whole
+  Index points() const { return streamed ? streamed->summary.points : load.points.size(); }
 };
 struct Sampled {
   std::shared_ptr<const Loaded> loaded;

@@ -12,6 +12,7 @@
 
 #include "nodes/io/raw_mesh.h"
 #include "nodes/io/read_part_labels.h"
+#include "nodes/io/read_ply_chunks.h"
 
 namespace scanfill::io {
 namespace {
@@ -467,6 +468,90 @@ RawMesh read_ply(const std::filesystem::path& path) {
 }  // namespace scanfill::io
 
 namespace scanfill {
+
+PlyChunkReader::PlyChunkReader(const std::filesystem::path& path) : path_(path) {
+  using namespace io;
+  std::uint64_t file_size = 0;
+  const auto complete = [](std::string_view d) {
+    for (size_t at = d.find("\nend_header"); at != std::string_view::npos; at = d.find("\nend_header", at + 1)) {
+      const size_t after = at + std::strlen("\nend_header");
+      if (d.substr(after).starts_with("\n") || d.substr(after).starts_with("\r\n")) return true;
+    }
+    return false;
+  };
+  const std::string head = read_head(path, complete, file_size);
+  const PlyHeader h = parse_ply_header(path, head, file_size);
+  if (h.encoding == Encoding::kAscii) fail(path, "chunked reading needs a binary PLY, this one is ascii");
+  const Element& vertex = h.elements.front();
+  if (vertex.name != "vertex") fail(path, "chunked reading needs the vertex element first, not '" + vertex.name + "'");
+  offset_.assign(6, -1);
+  type_.assign(6, 0);
+  for (const Property& p : vertex.properties) {
+    if (p.is_list) fail(path, "chunked reading needs a vertex element without list properties ('" + p.name + "')");
+    const int s = slot_of("vertex", p);
+    if (s >= 0 && s < 6) {
+      offset_[size_t(s)] = int(record_);
+      type_[size_t(s)] = int(p.type);
+    }
+    record_ += type_size(p.type);
+  }
+  if (offset_[0] < 0 || offset_[1] < 0 || offset_[2] < 0) fail(path, "PLY vertex element lacks x, y or z");
+  normals_ = offset_[3] >= 0 && offset_[4] >= 0 && offset_[5] >= 0;
+  swap_ = (h.encoding == Encoding::kLittle) != (std::endian::native == std::endian::little);
+  body_ = h.body;
+  rows_ = vertex.count;
+  in_.open(path, std::ios::binary);
+  if (!in_) fail(path, "cannot open");
+  rewind();
+}
+
+void PlyChunkReader::rewind() {
+  in_.clear();
+  in_.seekg(std::streamoff(body_));
+  row_ = 0;
+  dropped_ = 0;
+}
+
+bool PlyChunkReader::next(Index max_points, PointSet& out) {
+  using namespace io;
+  const Index n = std::min(std::max<Index>(max_points, 1), rows_ - row_);
+  if (n <= 0) return false;
+  buffer_.resize(size_t(n) * record_);
+  if (!in_.read(buffer_.data(), std::streamsize(buffer_.size())))
+    fail(path_, "truncated: the vertex data ends before record " + std::to_string(row_ + n));
+  const auto value = [&](Index r, int slot) {
+    return read_binary(buffer_.data() + size_t(r) * record_ + size_t(offset_[size_t(slot)]), Type(type_[size_t(slot)]),
+                       swap_);
+  };
+  Index kept = 0;
+  for (Index r = 0; r < n; ++r)
+    kept += std::isfinite(value(r, 0)) && std::isfinite(value(r, 1)) && std::isfinite(value(r, 2));
+  Eigen::Matrix3Xd P(3, kept), N(3, normals_ ? kept : 0);
+  VectorXi64 source(kept);
+  for (Index r = 0, j = 0; r < n; ++r) {
+    const Eigen::Vector3d p(value(r, 0), value(r, 1), value(r, 2));
+    if (!p.allFinite()) continue;
+    P.col(j) = p;
+    source(j) = row_ + r;
+    if (normals_) {
+      Eigen::Vector3d v(value(r, 3), value(r, 4), value(r, 5));
+      const double len = v.norm();
+      if (!(len > 1e-12) || !std::isfinite(len))
+        v.setZero();
+      else if (std::abs(len - 1) > 1e-12)
+        v /= len;  // as read_point_set: normals unit to rounding are kept as stored
+      N.col(j) = v;
+    }
+    ++j;
+  }
+  dropped_ += n - kept;
+  row_ += n;
+  out = PointSet(std::move(P));
+  if (normals_) out.set_normals(std::move(N));
+  out.set_source_index(std::move(source));
+  return true;
+}
+
 namespace {
 
 // One scalar or list property of a record: its value (a list's count), or, for a list, its items skipped.

@@ -22,6 +22,9 @@ namespace scanfill {
 struct LoadOptions {
   // Reorder points by Morton code (DESIGN section 7: 2.5-3x faster kd-tree queries); source_index keeps the way back.
   bool morton_sort = true;
+  // A scan (or exemplar) given as one binary PLY of more points than this is read in chunks, never held whole: sampled
+  // by per-chunk grid thinning and carried by the transfer a run at a time, in file order (issue 13). 0 = never.
+  Index stream_above = 0;
 };
 
 struct LoadResult {

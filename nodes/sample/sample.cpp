@@ -154,12 +154,28 @@ double cloud_area(const Eigen::Matrix3Xd& P, const KdTree& tree) {
   return sum * double(P.cols()) / double(n);
 }
 
+// The grid cell (and normal octant, when `normals` is given) of point i at position p, for a grid of spacing h anchored
+// at lo; d2 its squared distance to the cell centre, in cells.
+std::int64_t grid_cell(const Eigen::Vector3d& p, const Eigen::Matrix3Xd* normals, Index i, const Eigen::Vector3d& lo,
+                       double h, double& d2) {
+  constexpr std::int64_t kCells = std::int64_t(1) << 20;
+  std::int64_t key = 0;
+  d2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double x = (p[a] - lo[a]) / h;
+    const std::int64_t c = std::min<std::int64_t>(kCells - 1, std::int64_t(x));
+    d2 += (x - double(c) - 0.5) * (x - double(c) - 0.5);
+    key = key << 20 | c;
+  }
+  if (normals) key = key << 3 | ((*normals)(0, i) < 0) | ((*normals)(1, i) < 0) << 1 | ((*normals)(2, i) < 0) << 2;
+  return key;
+}
+
 // Indices (ascending, so Morton order is kept) of one point per cell of a grid of spacing h, the one nearest the cell
 // centre; with normals, per cell and normal octant, so the two sides of a part thinner than h both survive.
 std::vector<Index> thin_cloud(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd& normals, double h) {
   const Index n = P.cols();
   const Eigen::Vector3d lo = P.rowwise().minCoeff();
-  constexpr std::int64_t kCells = std::int64_t(1) << 20;
   const bool with_normals = normals.cols() == n;
   struct Entry {
     std::int64_t key;
@@ -169,15 +185,8 @@ std::vector<Index> thin_cloud(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd&
   std::vector<Entry> entries(static_cast<size_t>(n));
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kBlock), [&](const tbb::blocked_range<Index>& r) {
     for (Index i = r.begin(); i != r.end(); ++i) {
-      std::int64_t key = 0;
       double d2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        const double x = (P(a, i) - lo[a]) / h;
-        const std::int64_t c = std::min<std::int64_t>(kCells - 1, std::int64_t(x));
-        d2 += (x - double(c) - 0.5) * (x - double(c) - 0.5);
-        key = key << 20 | c;
-      }
-      if (with_normals) key = key << 3 | (normals(0, i) < 0) | (normals(1, i) < 0) << 1 | (normals(2, i) < 0) << 2;
+      const std::int64_t key = grid_cell(P.col(i), with_normals ? &normals : nullptr, i, lo, h, d2);
       entries[size_t(i)] = {key, d2, i};
     }
   });
@@ -323,6 +332,147 @@ void survivors(const PointSet& input, const Candidates& cand, const std::vector<
                SampleResult& result);
 
 }  // namespace
+
+namespace {
+
+// Every run of `chunks` in one cloud of `points` points: positions, normals when the runs have them, source_index.
+PointSet whole_cloud(PointChunks& chunks, Index chunk_points, Index points) {
+  Eigen::Matrix3Xd P(3, points), N(3, points);
+  VectorXi64 source(points);
+  bool normals = true;
+  Index at = 0;
+  PointSet run;
+  while (chunks.next(chunk_points, run)) {
+    const Index n = run.size();
+    P.middleCols(at, n) = run.positions();
+    if (run.has_normals()) N.middleCols(at, n) = run.normals();
+    normals = normals && run.has_normals();
+    source.segment(at, n) = run.source_index();
+    at += n;
+  }
+  PointSet out(std::move(P));
+  if (normals) out.set_normals(std::move(N));
+  out.set_source_index(std::move(source));
+  return out;
+}
+
+}  // namespace
+
+std::vector<Index> thin_on_grid(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals, double h) {
+  return thin_cloud(positions, normals, h);
+}
+
+void GridThinner::add(const PointSet& run) {
+  const Index n = run.size(), first = seen_;
+  const Eigen::Matrix3Xd& P = run.positions();
+  const Eigen::Matrix3Xd* normals = run.has_normals() ? &run.normals() : nullptr;
+  normals_ = normals != nullptr;
+  run_.resize(size_t(n));
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kBlock), [&](const tbb::blocked_range<Index>& r) {
+    for (Index i = r.begin(); i != r.end(); ++i) {
+      Cell& c = run_[size_t(i)];
+      c.key = grid_cell(P.col(i), normals, i, lo_, h_, c.d2);
+      c.index = first + i;
+      c.source = run.has_source_index() ? run.source_index()(i) : first + i;
+      c.p = P.col(i);
+      c.n = normals ? Eigen::Vector3d((*normals).col(i)) : Eigen::Vector3d::Zero();
+    }
+  });
+  seen_ += n;
+  // thin_cloud's total order: by cell, then nearest the centre, then the lower index.
+  const auto before = [](const Cell& a, const Cell& b) {
+    return a.key != b.key ? a.key < b.key : a.d2 != b.d2 ? a.d2 < b.d2 : a.index < b.index;
+  };
+  tbb::parallel_sort(run_.begin(), run_.end(), before);
+  // The run's best of each cell merged with the best so far, both ordered by cell.
+  merged_.clear();
+  size_t a = 0, b = 0;
+  while (a < cells_.size() || b < run_.size()) {
+    if (b < run_.size() && b > 0 && run_[b].key == run_[b - 1].key) {
+      ++b;  // not the best of its cell in this run
+    } else if (b == run_.size() || (a < cells_.size() && cells_[a].key < run_[b].key)) {
+      merged_.push_back(cells_[a++]);
+    } else if (a == cells_.size() || run_[b].key < cells_[a].key) {
+      merged_.push_back(run_[b++]);
+    } else {
+      merged_.push_back(before(cells_[a], run_[b]) ? cells_[a] : run_[b]);
+      ++a;
+      ++b;
+    }
+  }
+  cells_.swap(merged_);
+}
+
+PointSet GridThinner::take() {
+  std::sort(cells_.begin(), cells_.end(), [](const Cell& a, const Cell& b) { return a.index < b.index; });
+  const Index n = Index(cells_.size());
+  Eigen::Matrix3Xd P(3, n), N(3, normals_ ? n : 0);
+  VectorXi64 source(n);
+  for (Index k = 0; k < n; ++k) {
+    P.col(k) = cells_[size_t(k)].p;
+    if (normals_) N.col(k) = cells_[size_t(k)].n;
+    source(k) = cells_[size_t(k)].source;
+  }
+  cells_.clear();
+  seen_ = 0;
+  PointSet out(std::move(P));
+  if (normals_) out.set_normals(std::move(N));
+  out.set_source_index(std::move(source));
+  return out;
+}
+
+ChunksSummary summarize_chunks(PointChunks& chunks, Index chunk_points, Index kept_points) {
+  ChunksSummary s;
+  s.stride = std::max<Index>(1, chunks.rows() / std::max<Index>(kept_points, 1));
+  s.bounds = {Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+              Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity())};
+  std::vector<Eigen::Vector3d> P, N;
+  std::vector<std::int64_t> source;
+  PointSet run;
+  chunks.rewind();
+  while (chunks.next(chunk_points, run)) {
+    s.points += run.size();
+    if (run.size() == 0) continue;
+    s.bounds.min = s.bounds.min.cwiseMin(run.positions().rowwise().minCoeff());
+    s.bounds.max = s.bounds.max.cwiseMax(run.positions().rowwise().maxCoeff());
+    for (Index i = 0; i < run.size(); ++i)
+      if (run.source_index()(i) % s.stride == 0) {
+        P.push_back(run.positions().col(i));
+        if (run.has_normals()) N.push_back(run.normals().col(i));
+        source.push_back(run.source_index()(i));
+      }
+  }
+  const Index n = Index(P.size());
+  Eigen::Matrix3Xd positions(3, n), normals(3, Index(N.size()) == n ? n : 0);
+  for (Index k = 0; k < n; ++k) positions.col(k) = P[size_t(k)];
+  for (Index k = 0; k < normals.cols(); ++k) normals.col(k) = N[size_t(k)];
+  s.every_kth = PointSet(std::move(positions));
+  if (normals.cols() > 0) s.every_kth.set_normals(std::move(normals));
+  s.every_kth.set_source_index(Eigen::Map<const VectorXi64>(source.data(), n));
+  return s;
+}
+
+SampleResult sample_chunks(PointChunks& chunks, const ChunksSummary& summary, const SampleOptions& options,
+                           Index chunk_points, const ProgressFn& progress) {
+  check_options(options);
+  if (summary.every_kth.size() < 3)
+    throw InputError("sampling needs at least 3 points, the input has " + std::to_string(summary.points));
+  KdTree tree;
+  tree.build(summary.every_kth.positions());
+  const double area = cloud_area(summary.every_kth.positions(), tree);
+  const Index n_target = options.spacing > 0 ? count_for_spacing(area, options.spacing) : options.count;
+  chunks.rewind();
+  PointSet run;
+  if (double(summary.points) <= kThinAbove * double(n_target)) {
+    // Few enough to hold: the whole cloud, as sample() takes it.
+    return sample(whole_cloud(chunks, chunk_points, summary.points), options, progress);
+  }
+  const double h = std::sqrt(1.5 * area / (kThinTo * double(n_target)));
+  GridThinner thinner(summary.bounds.min, h);
+  while (chunks.next(chunk_points, run)) thinner.add(run);
+  report(progress, 0.1);
+  return sample(thinner.take(), options, progress);
+}
 
 Index count_for_spacing(double area, double spacing) {
   return std::max<Index>(1, Index(std::llround(kSpacingFactor * area / (spacing * spacing))));

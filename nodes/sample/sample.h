@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "nodes/core/point_chunks.h"
 #include "nodes/core/point_set.h"
 #include "nodes/core/progress.h"
 
@@ -55,6 +56,57 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
 // and normals, in the same order, made block by block: memory for the kept points only, never all n.
 PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
                                      const std::function<bool(const Eigen::Vector3d&)>& keep);
+
+// Sampling a cloud too large to hold (issue 13), from a PointChunks source in two passes.
+//
+// summarize_chunks is the first pass: the points' count and bounding box, and every stride-th point (about
+// `kept_points` of them), on which the cloud's area is estimated (cloud_area's estimate follows the local spacing, not
+// the density, so an even subsample gives the whole cloud's area). sample_chunks is the second: a cloud of more than
+// 40 points per requested sample is thinned on the grid a run at a time (GridThinner: the same points as the
+// whole-cloud thinning, holding only the grid's candidates), and the candidates are sampled as sample() samples a
+// cloud; a smaller cloud is read whole and given to sample(). Deviations from sample() on the whole cloud, by
+// necessity: exact duplicates are not merged (that needs a sort of every point), the points keep their file order (no
+// Morton sort), and a thinned cloud's spacing-derived count comes from the subsample's area.
+struct ChunksSummary {
+  Index points = 0;    // finite points in all
+  BoundingBox bounds;  // of every point
+  Index stride = 1;    // every_kth holds points 0, stride, 2 stride, ...
+  PointSet every_kth;  // positions (and normals when known), source_index
+};
+ChunksSummary summarize_chunks(PointChunks& chunks, Index chunk_points, Index kept_points);
+SampleResult sample_chunks(PointChunks& chunks, const ChunksSummary& summary, const SampleOptions& options,
+                           Index chunk_points, const ProgressFn& progress = {});
+
+// One point per cell of a grid of spacing h anchored at `lo` (and per normal octant when the points have normals),
+// the one nearest the cell centre, ties to the lower index: the thinning of sample(), fed a run at a time. Holds one
+// entry per occupied cell, never the whole cloud.
+class GridThinner {
+ public:
+  GridThinner(const Eigen::Vector3d& lo, double h) : lo_(lo), h_(h) {}
+  // The next run of points (indices continue from the previous runs).
+  void add(const PointSet& run);
+  // The kept points in index order: positions, normals when the runs had them, source_index (the run's, or the index).
+  PointSet take();
+
+  struct Cell {
+    std::int64_t key;
+    double d2;
+    Index index;
+    std::int64_t source;
+    Eigen::Vector3d p, n;
+  };
+
+ private:
+  Eigen::Vector3d lo_;
+  double h_;
+  Index seen_ = 0;
+  bool normals_ = false;
+  std::vector<Cell> cells_, run_, merged_;  // cells_: the best point of each cell so far, by key
+};
+
+// Indices (ascending) of the points sample() keeps when it thins a cloud on a grid of spacing h anchored at the
+// points' minimum: what GridThinner must reproduce.
+std::vector<Index> thin_on_grid(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals, double h);
 
 // Sample count that gives a mean nearest-neighbour distance of `spacing` on a surface of `area` (measured on WSE
 // output, see tests/nodes/sample_test.cpp).

@@ -13,16 +13,20 @@
 namespace scanfill {
 namespace {
 
-// Nearest sample of every point, in blocks (no per-point distance array).
-std::vector<std::int32_t> nearest_samples(const PointSet& full, const Eigen::Matrix3Xd& samples) {
-  KdTree tree;
-  tree.build(samples);
-  const Eigen::Matrix3Xd& P = full.positions();
-  std::vector<std::int32_t> nearest(size_t(P.cols()));
+// Nearest sample (in `tree`) of every column of P, into nearest[0, P.cols()), in blocks (no per-point distance array).
+void nearest_into(const KdTree& tree, const Eigen::Matrix3Xd& P, std::int32_t* nearest) {
   tbb::parallel_for(tbb::blocked_range<Index>(0, P.cols(), 4096), [&](const tbb::blocked_range<Index>& r) {
     double d2 = 0;
     for (Index i = r.begin(); i != r.end(); ++i) tree.knn(P.col(i), 1, &nearest[size_t(i)], &d2);
   });
+}
+
+// Nearest sample of every point.
+std::vector<std::int32_t> nearest_samples(const PointSet& full, const Eigen::Matrix3Xd& samples) {
+  KdTree tree;
+  tree.build(samples);
+  std::vector<std::int32_t> nearest(size_t(full.size()));
+  nearest_into(tree, full.positions(), nearest.data());
   return nearest;
 }
 
@@ -40,7 +44,8 @@ struct PatchInput {
   const PointSet* full = nullptr;            // null: the patch emits nothing
   const std::vector<std::int32_t>* nearest;  // per point of full: its nearest base sample
   const std::vector<std::int32_t>* made;     // per base sample: the carried sample, or -1
-  std::int32_t carried(Index i) const { return (*made)[size_t((*nearest)[size_t(i)])]; }
+  Index first = 0;                           // full's point i is point first + i of the whole input (a run of it)
+  std::int32_t carried(Index i) const { return (*made)[size_t((*nearest)[size_t(first + i)])]; }
 };
 
 // The output points patch p emits from points [begin, end) of its input, in order.
@@ -218,6 +223,71 @@ TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, c
     Matrix3Xi F(3, Index(tris.size()));
     for (size_t t = 0; t < tris.size(); ++t) F.col(Index(t)) = tris[t];
     sink.faces(F);
+  }
+  return counts;
+}
+
+TransferCounts stream_plan_chunks(const TransferPlan& plan, PointChunks& exemplar, Index exemplar_points,
+                                  const PointSet* copies, Index chunk_points, const TransferSink& sink,
+                                  const ProgressFn& progress) {
+  if (chunk_points <= 0) throw InvariantError("stream_plan: chunk_points must be positive");
+  if (!copies || !uses(plan, true)) copies = nullptr;
+  if (uses(plan, false) && (plan.colours || plan.intensity || plan.mesh_output))
+    throw InvariantError("stream_plan_chunks: the plan's exemplar had colours, intensity or triangles, runs have none");
+  const auto made = carried_of(plan);
+  // Pass 1: every exemplar point's nearest sample (one int32 a point), and what each patch will emit.
+  std::vector<std::int32_t> exemplar_nearest(static_cast<size_t>(exemplar_points));
+  {
+    KdTree tree;
+    tree.build(plan.exemplar_samples);
+    PointSet run;
+    Index at = 0;
+    exemplar.rewind();
+    while (exemplar.next(chunk_points, run)) {
+      if (at + run.size() > exemplar_points) throw InvariantError("stream_plan_chunks: more points than announced");
+      nearest_into(tree, run.positions(), exemplar_nearest.data() + at);
+      at += run.size();
+    }
+    if (at != exemplar_points) throw InvariantError("stream_plan_chunks: fewer points than announced");
+  }
+  report(progress, 0.2);
+  const auto target_nearest = copies ? nearest_samples(*copies, plan.target_samples) : std::vector<int>{};
+  report(progress, 0.4);
+  const size_t np = plan.patches.size();
+  TransferCounts counts;
+  for (size_t p = 0; p < np; ++p) {
+    Index points = 0;
+    if (plan.patches[p].from_target) {
+      points = copies ? patch_counts({copies, &target_nearest, &made[p]}, false).first : 0;
+    } else {
+      for (const std::int32_t k : exemplar_nearest) points += made[p][size_t(k)] >= 0;
+    }
+    counts.points += points;
+    counts.by_origin[int(plan.patches[p].origin)] += points;
+  }
+  if (sink.begin) sink.begin(counts);
+  // Pass 2, one per exemplar patch: patch by patch in the plan's order, each input's points in their order.
+  std::vector<Index> rows;
+  PointSet run;
+  for (size_t p = 0; p < np; ++p) {
+    if (plan.patches[p].from_target) {
+      if (!copies) continue;
+      const PatchInput in{copies, &target_nearest, &made[p]};
+      for (Index begin = 0; begin < copies->size(); begin += chunk_points) {
+        const TransferResult out = emit_run(plan, p, in, begin, std::min(copies->size(), begin + chunk_points), rows);
+        if (out.points.size() > 0) sink.points(out);
+      }
+    } else {
+      Index at = 0;
+      exemplar.rewind();
+      while (exemplar.next(chunk_points, run)) {
+        const PatchInput in{&run, &exemplar_nearest, &made[p], at};
+        const TransferResult out = emit_run(plan, p, in, 0, run.size(), rows);
+        if (out.points.size() > 0) sink.points(out);
+        at += run.size();
+      }
+    }
+    report(progress, 0.4 + 0.6 * double(p + 1) / double(np));
   }
   return counts;
 }

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "nodes/align/align.h"
+#include "nodes/core/point_chunks.h"
 #include "nodes/core/progress.h"
 #include "nodes/synthesize/synthesize.h"
 
@@ -100,6 +101,14 @@ struct TransferSink {
 // (its nearest sample) and, for a mesh exemplar, its triangles; never the whole output.
 TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
                            Index chunk_points, const TransferSink& sink, const ProgressFn& progress = {});
+
+// stream_plan with the exemplar read a run at a time (issue 13: a scan too large to hold), `exemplar_points` points in
+// all: the points stream_plan gives for those points held whole, in the same order. The exemplar is a cloud without
+// colours or intensity (InvariantError otherwise). Holds one int32 per exemplar point and one run; every exemplar
+// patch is one more pass over the runs.
+TransferCounts stream_plan_chunks(const TransferPlan& plan, PointChunks& exemplar, Index exemplar_points,
+                                  const PointSet* copies, Index chunk_points, const TransferSink& sink,
+                                  const ProgressFn& progress = {});
 
 // Every stride-th point of a stream (output index a multiple of `stride`), gathered: a bounded picture of an output too
 // large to hold (the surface's and the preview's input). Points in stream order, with their attributes.

@@ -8,6 +8,7 @@
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/procedural/shapes.h"
+#include "runs_of.h"
 
 namespace scanfill {
 namespace {
@@ -134,6 +135,48 @@ TEST(Sample, AVeryDenseCloudIsThinnedFirstAndStillGivesPoissonDiskSamples) {
   EXPECT_LT(two.candidates, 40 * 2000);
   const Index upper = (two.samples.positions().row(2).array() > -0.001).count();
   EXPECT_NEAR(double(upper) / 2000.0, 0.5, 0.05);
+}
+
+TEST(SampleChunks, GridThinningRunByRunKeepsTheWholeCloudsPoints) {
+  // Issue 13: the sampler thins a cloud too large to hold a run at a time; any runs give the whole cloud's thinning.
+  const PointSet sphere = random_surface_points(make_sphere(0.5, 48), 5000, 5);
+  const double h = 0.08;
+  const std::vector<Index> whole = thin_on_grid(sphere.positions(), sphere.normals(), h);
+  ASSERT_LT(whole.size(), 5000u / 3);  // several points per cell
+  test::RunsOf runs(sphere);
+  for (const Index chunk : {Index(1), Index(7), sphere.size()}) {
+    SCOPED_TRACE(chunk);
+    GridThinner thinner(sphere.positions().rowwise().minCoeff(), h);
+    PointSet run;
+    runs.rewind();
+    while (runs.next(chunk, run)) thinner.add(run);
+    const PointSet kept = thinner.take();
+    ASSERT_EQ(kept.size(), Index(whole.size()));
+    for (Index k = 0; k < kept.size(); ++k) {
+      const Index i = whole[size_t(k)];
+      ASSERT_EQ(kept.source_index()(k), i);
+      ASSERT_EQ(kept.positions().col(k), sphere.positions().col(i));
+      ASSERT_EQ(kept.normals().col(k), sphere.normals().col(i));
+    }
+  }
+}
+
+TEST(SampleChunks, ADenseCloudReadInRunsGivesPoissonDiskSamplesOfItsOwnPoints) {
+  // 200 points per sample: thinned run by run, then sampled as a held cloud. The samples are points of the cloud
+  // (source_index: the row), as many as asked, and keep the Poisson-disk property.
+  const PointSet sphere = random_surface_points(make_sphere(0.5, 48), 100000, 6);
+  test::RunsOf runs(sphere);
+  const ChunksSummary summary = summarize_chunks(runs, 4096, 20000);
+  EXPECT_EQ(summary.points, sphere.size());
+  EXPECT_EQ(summary.bounds.min, Eigen::Vector3d(sphere.positions().rowwise().minCoeff()));
+  EXPECT_EQ(summary.every_kth.size(), 20000);
+  const SampleResult r = sample_chunks(runs, summary, {.count = 500}, 4096);
+  EXPECT_EQ(r.samples.size(), 500);
+  EXPECT_LT(r.candidates, 40 * 500);
+  for (Index i = 0; i < r.samples.size(); ++i)
+    ASSERT_EQ(r.samples.positions().col(i), sphere.positions().col(r.samples.source_index()(i)));
+  const auto d = nn_distances(r.samples.positions());
+  EXPECT_GE(min(d), 0.6 * mean(d)) << "min " << min(d) << " mean " << mean(d);
 }
 
 TEST(Sample, SameSeedSameSamplesOnOneAndTwoThreads) {

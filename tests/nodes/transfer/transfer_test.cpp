@@ -11,6 +11,7 @@
 #include <array>
 
 #include "nodes/core/errors.h"
+#include "runs_of.h"
 
 namespace scanfill {
 namespace {
@@ -299,7 +300,9 @@ struct Streamed {
   TransferCounts counts;
   Index runs = 0;
 };
-Streamed stream_in_chunks(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies, Index chunk) {
+// With `runs`: the exemplar read from it a run at a time (stream_plan_chunks), else held whole (stream_plan).
+Streamed stream_in_chunks(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies, Index chunk,
+                          PointChunks* runs = nullptr) {
   Streamed s;
   std::vector<Eigen::Vector3d> P, N;
   std::vector<Eigen::Matrix<std::uint8_t, 3, 1>> C;
@@ -319,7 +322,8 @@ Streamed stream_in_chunks(const TransferPlan& plan, const PointSet* exemplar, co
                             s.out.label.insert(s.out.label.end(), run.label.begin(), run.label.end());
                           },
                           [&](const Matrix3Xi& f) { faces = f; }};
-  const TransferCounts counts = stream_plan(plan, exemplar, copies, chunk, sink);
+  const TransferCounts counts = runs ? stream_plan_chunks(plan, *runs, exemplar->size(), copies, chunk, sink)
+                                     : stream_plan(plan, exemplar, copies, chunk, sink);
   EXPECT_EQ(counts.points, s.counts.points);
   Eigen::Matrix3Xd p(3, Index(P.size())), n(3, Index(N.size()));
   for (size_t i = 0; i < P.size(); ++i) p.col(Index(i)) = P[i], n.col(Index(i)) = N[i];
@@ -363,6 +367,28 @@ TEST(StreamPlan, ChunksOfAnySizeGiveTheWholeTransferInItsOrder) {
     EXPECT_EQ(s.counts.by_origin[0] + s.counts.by_origin[1] + s.counts.by_origin[2], whole.points.size());
     if (chunk == 7) EXPECT_GT(s.runs, 100);  // many chunks
   }
+}
+
+TEST(StreamPlan, AnExemplarReadInRunsGivesTheWholeTransferInItsOrder) {
+  // The scan read from its file in chunks (issue 13): two exemplar patches, each a pass over the runs, and copies.
+  TwoPatches t;
+  const TransferPlan plan = plan_transfer(t.inputs());
+  const PointSet copies = copied_points(plan, t.target);
+  const TransferResult whole = apply_plan(plan, &t.E, &copies);
+  test::RunsOf runs(t.E);
+  for (const Index chunk : {Index(1), Index(7), Index(100000)}) {
+    SCOPED_TRACE(chunk);
+    const Streamed s = stream_in_chunks(plan, &t.E, &copies, chunk, &runs);
+    expect_identical(s.out, whole);
+    EXPECT_EQ(s.counts.points, whole.points.size());
+    EXPECT_EQ(s.counts.by_origin[0] + s.counts.by_origin[1] + s.counts.by_origin[2], whole.points.size());
+  }
+  // An exemplar with colours needs them in the runs: refused, not carried grey.
+  TwoPatches c;
+  c.E = coloured(c.E);
+  const TransferPlan coloured_plan = plan_transfer(c.inputs());
+  test::RunsOf coloured_runs(c.E);
+  EXPECT_THROW(stream_plan_chunks(coloured_plan, coloured_runs, c.E.size(), nullptr, 7, {}), InvariantError);
 }
 
 TEST(StreamPlan, EveryKthKeepsTheOutputPointsWhoseIndexIsAMultipleOfK) {
