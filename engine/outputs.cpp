@@ -335,10 +335,19 @@ nlohmann::json symmetry_json(const Labelled& a) {
       list.push_back({{"order", ax.order}, {"direction", json_vec(ax.direction)}, {"centre", json_vec(ax.centre)}});
     return list;
   };
+  const auto parts = [](const SymmetryResult& sym) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& p : sym.parts)
+      list.push_back({{"samples", p.samples.size()},
+                      {"direction", json_vec(p.axis.direction)},
+                      {"centre", json_vec(p.axis.centre)}});
+    return list;
+  };
   const Symmetries& s = *a.votes().symmetries;
   return {{"source_axes", axes(s.source_symmetry)},
           {"target_axes", axes(s.target_symmetry)},
           {"target_rotations", s.target_symmetry.rotations.size()},
+          {"target_parts", parts(s.target_symmetry)},
           {"votes_quotiented", bool(s.source_symmetry.continuous)},
           {"voted_transforms", a.supports->voted},
           {"composed_candidates", a.supports->composed}};

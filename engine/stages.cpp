@@ -327,9 +327,11 @@ SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const Feat
     options.planar = state.config.mode == RunMode::kCurves;
     s->source_symmetry = find_symmetries(source, s->spacing, options);
     s->target_symmetry = find_symmetries(target->features.points, s->spacing, options);
+    s->target_symmetry.parts = find_part_symmetries(target->features.points, s->spacing, s->target_symmetry, options,
+                                                    &target->sampled->loaded->load.points);
     node_logger("symmetry")
-        ->info("source: {}; target: {} ({} rotations)", describe(s->source_symmetry), describe(s->target_symmetry),
-               s->target_symmetry.rotations.size());
+        ->info("source: {}; target: {} ({} rotations; {} parts about their own axis)", describe(s->source_symmetry),
+               describe(s->target_symmetry), s->target_symmetry.rotations.size(), s->target_symmetry.parts.size());
     return SymmetriesPtr(std::move(s));
   });
 }

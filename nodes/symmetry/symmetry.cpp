@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -102,7 +103,159 @@ double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
   return std::atan2(e.dot(a.cross(r_perp)), e.dot(r_perp));
 }
 
+// The root of i in a union-find forest whose roots are their component's smallest index.
+std::int32_t root_of(std::vector<std::int32_t>& parent, std::int32_t i) {
+  while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
+  return i;
+}
+
+// Connected components of the kNN graph (8 neighbours within 3 alpha) over edges whose normals agree within
+// `normal_angle_deg`, each ascending, ordered by their smallest sample.
+std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, double spacing,
+                                                         double normal_angle_deg) {
+  const Index n = shape.size();
+  constexpr int k = 8;
+  KdTree tree;
+  tree.build(shape.positions());
+  std::vector<double> d2;
+  const std::vector<std::int32_t> graph = knn_graph(tree, shape.positions(), k, &d2);
+  const double cos_limit = std::cos(normal_angle_deg * M_PI / 180), limit2 = std::pow(3 * spacing, 2);
+  std::vector<std::int32_t> parent(static_cast<size_t>(n));
+  for (Index i = 0; i < n; ++i) parent[size_t(i)] = std::int32_t(i);
+  for (Index i = 0; i < n; ++i)
+    for (int e = 0; e < k; ++e) {
+      const std::int32_t j = graph[size_t(i * k + e)];
+      if (j < 0 || d2[size_t(i * k + e)] > limit2) continue;
+      if (shape.normals().col(i).dot(shape.normals().col(j)) < cos_limit) continue;
+      const std::int32_t a = root_of(parent, std::int32_t(i)), b = root_of(parent, j);
+      if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+    }
+  std::vector<std::vector<std::int32_t>> components;
+  std::vector<std::int32_t> slot(static_cast<size_t>(n), -1);
+  for (Index i = 0; i < n; ++i) {
+    const std::int32_t r = root_of(parent, std::int32_t(i));
+    if (slot[size_t(r)] < 0) {
+      slot[size_t(r)] = std::int32_t(components.size());
+      components.emplace_back();
+    }
+    components[size_t(slot[size_t(r)])].push_back(std::int32_t(i));
+  }
+  return components;
+}
+
+// Q o R as a mode: it explains t when R t lies on Q's `support`, so its voters are the samples nearest R^-1 u for u in
+// the support.
+Mode composed_mode(const Similarity& q, const Similarity& r, const std::vector<std::int32_t>& support,
+                   const PointSet& target, const KdTree& tree) {
+  const Similarity r_inv = r.inverse();
+  Mode m;
+  m.transform = q.compose(r);
+  m.voters.resize(support.size());
+  tbb::parallel_for(size_t(0), support.size(), [&](size_t i) {
+    double d2;
+    tree.knn(r_inv.apply(target.positions().col(support[i])), 1, &m.voters[i], &d2);
+  });
+  std::sort(m.voters.begin(), m.voters.end());
+  m.voters.erase(std::unique(m.voters.begin(), m.voters.end()), m.voters.end());
+  m.votes = Index(m.voters.size());
+  return m;
+}
+
+// Q composed with the turns of each part that Q's support reaches, about the part's own axis (every 360 / `turns`
+// degrees); only the support on the part votes, since a part's turn moves the rest of T off itself.
+void append_part_turns(const Similarity& q, const std::vector<std::int32_t>& support,
+                       const std::vector<PartSymmetry>& parts, int turns, const PointSet& target, const KdTree& tree,
+                       std::vector<Mode>& out) {
+  for (const PartSymmetry& part : parts) {
+    std::vector<std::int32_t> on_part;
+    std::set_intersection(support.begin(), support.end(), part.samples.begin(), part.samples.end(),
+                          std::back_inserter(on_part));
+    if (on_part.empty()) continue;
+    for (int k = 1; k < turns; ++k)
+      out.push_back(composed_mode(q, rotation_about(part.axis.centre, part.axis.direction, 2 * M_PI * k / turns),
+                                  on_part, target, tree));
+  }
+}
+
+// The samples of each connected component of `mesh`'s faces, by each sample's nearest vertex on a face: the pieces a
+// template was modelled from (a table's top and legs), which a junction's blended normals cannot join. Ascending,
+// ordered by their smallest sample.
+std::vector<std::vector<std::int32_t>> mesh_components(const PointSet& shape, const PointSet& mesh) {
+  std::vector<std::int32_t> parent(static_cast<size_t>(mesh.size()), -1);
+  for (Index f = 0; f < mesh.faces().cols(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t v = mesh.faces()(c, f);
+      if (parent[size_t(v)] < 0) parent[size_t(v)] = v;
+    }
+  for (Index f = 0; f < mesh.faces().cols(); ++f)
+    for (int c = 1; c < 3; ++c) {
+      const std::int32_t a = root_of(parent, mesh.faces()(0, f)), b = root_of(parent, mesh.faces()(c, f));
+      if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+    }
+  std::vector<std::int32_t> on_face;
+  for (Index v = 0; v < mesh.size(); ++v)
+    if (parent[size_t(v)] >= 0) on_face.push_back(std::int32_t(v));
+  const Eigen::Matrix3Xd vertices = subset(mesh, on_face).positions();
+  KdTree tree;
+  tree.build(vertices);
+  std::vector<std::int32_t> nearest;
+  std::vector<double> d2;
+  nearest_each(tree, shape.positions(), nearest, d2);
+  std::vector<std::vector<std::int32_t>> components;
+  std::vector<std::int32_t> slot(static_cast<size_t>(mesh.size()), -1);
+  for (Index i = 0; i < shape.size(); ++i) {
+    const std::int32_t r = root_of(parent, on_face[size_t(nearest[size_t(i)])]);
+    if (slot[size_t(r)] < 0) {
+      slot[size_t(r)] = std::int32_t(components.size());
+      components.emplace_back();
+    }
+    components[size_t(slot[size_t(r)])].push_back(std::int32_t(i));
+  }
+  return components;
+}
+
+// Whether two axes are the same line (parallel, and each centre within `tolerance` of the other's line).
+bool same_line(const SymmetryAxis& a, const SymmetryAxis& b, double tolerance) {
+  if (std::abs(a.direction.dot(b.direction)) < std::cos(2 * M_PI / 180)) return false;
+  const Eigen::Vector3d d = b.centre - a.centre;
+  return (d - d.dot(a.direction) * a.direction).norm() < tolerance;
+}
+
 }  // namespace
+
+std::vector<PartSymmetry> find_part_symmetries(const PointSet& shape, double spacing, const SymmetryResult& global,
+                                               const SymmetryOptions& o, const PointSet* mesh) {
+  check_options(o);
+  std::vector<PartSymmetry> parts;
+  if (!o.enabled || !o.parts || o.planar || shape.size() < 10) return parts;
+  if (!shape.has_normals()) throw InvariantError("symmetry needs normals");
+  SymmetryOptions whole = o;
+  whole.parts = false;
+  const bool faces = mesh && mesh->faces().cols() > 0;
+  for (auto& samples :
+       faces ? mesh_components(shape, *mesh) : smooth_components(shape, spacing, o.part_normal_angle_deg)) {
+    if (Index(samples.size()) < o.part_min_samples || double(samples.size()) > 0.9 * double(shape.size())) continue;
+    const SymmetryResult own = find_symmetries(subset(shape, samples), spacing, whole);
+    if (!own.continuous) continue;
+    // A part about the shape's own axis (a cylinder's cap, a vase's foot) adds nothing to the global symmetry.
+    const bool global_axis = std::any_of(global.axes.begin(), global.axes.end(), [&](const SymmetryAxis& a) {
+      return a.order == 0 && same_line(a, *own.continuous, 2 * spacing);
+    });
+    if (global_axis) continue;
+    // A cylinder's side and its caps are one part: the same turns.
+    const auto same = std::find_if(parts.begin(), parts.end(), [&](const PartSymmetry& p) {
+      return same_line(p.axis, *own.continuous, 2 * spacing);
+    });
+    if (same == parts.end()) {
+      parts.push_back({*own.continuous, std::move(samples)});
+      continue;
+    }
+    std::vector<std::int32_t> both;
+    std::merge(same->samples.begin(), same->samples.end(), samples.begin(), samples.end(), std::back_inserter(both));
+    same->samples = std::move(both);
+  }
+  return parts;
+}
 
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& o) {
   check_options(o);
@@ -182,7 +335,7 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
                                       const SymmetryResult& target_symmetry, const PointSet& target,
                                       const SymmetryOptions& o) {
   std::vector<Mode> out;
-  if (!o.enabled || target_symmetry.rotations.empty() || found.empty()) return out;
+  if (!o.enabled || (target_symmetry.rotations.empty() && target_symmetry.parts.empty()) || found.empty()) return out;
   KdTree tree;
   tree.build(target.positions());
   const size_t bases = std::min<size_t>(found.size(), size_t(std::max(0, o.max_base_transforms)));
@@ -198,21 +351,8 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
       with.push_back(Similarity{});
     }
     with.insert(with.end(), target_symmetry.rotations.begin(), target_symmetry.rotations.end());
-    for (const Similarity& r : with) {
-      // Q o R explains t when R t lies on Q's support: t near R^-1 u for u in the support.
-      const Similarity r_inv = r.inverse();
-      Mode m;
-      m.transform = base.compose(r);
-      m.voters.resize(q.support.size());
-      tbb::parallel_for(size_t(0), q.support.size(), [&](size_t i) {
-        double d2;
-        tree.knn(r_inv.apply(target.positions().col(q.support[i])), 1, &m.voters[i], &d2);
-      });
-      std::sort(m.voters.begin(), m.voters.end());
-      m.voters.erase(std::unique(m.voters.begin(), m.voters.end()), m.voters.end());
-      m.votes = Index(m.voters.size());
-      out.push_back(std::move(m));
-    }
+    for (const Similarity& r : with) out.push_back(composed_mode(base, r, q.support, target, tree));
+    if (o.parts) append_part_turns(base, q.support, target_symmetry.parts, o.part_turns, target, tree, out);
   }
   return out;
 }

@@ -30,15 +30,19 @@
 namespace scanfill {
 
 struct SymmetryOptions {
-  bool enabled = true;           // find symmetries and compose candidates; false = plain voting only
-  double distance = 1.5;         // a rotated sample must land this close (alpha) to a sample; > 0
-  double normal_angle_deg = 30;  // with normals within this angle; (0, 180]
-  double min_overlap = 0.9;      // share of samples that must land on the shape; (0, 1]
-  int max_order = 8;             // largest discrete order n tried per axis; [2, 64]
-  int continuous_steps = 12;     // a continuous axis offers rotations every 360 / this degrees; [2, 360]
-  int max_group = 48;            // most discrete symmetries kept; [1, 1000]
-  Index test_samples = 3000;     // samples each rotation is scored on (an even subsample); >= 10
-  int max_base_transforms = 6;   // found transforms composed with the symmetries, strongest first; >= 0
+  bool enabled = true;                // find symmetries and compose candidates; false = plain voting only
+  double distance = 1.5;              // a rotated sample must land this close (alpha) to a sample; > 0
+  double normal_angle_deg = 30;       // with normals within this angle; (0, 180]
+  double min_overlap = 0.9;           // share of samples that must land on the shape; (0, 1]
+  int max_order = 8;                  // largest discrete order n tried per axis; [2, 64]
+  int continuous_steps = 12;          // a continuous axis offers rotations every 360 / this degrees; [2, 360]
+  int max_group = 48;                 // most discrete symmetries kept; [1, 1000]
+  Index test_samples = 3000;          // samples each rotation is scored on (an even subsample); >= 10
+  int max_base_transforms = 6;        // found transforms composed with the symmetries, strongest first; >= 0
+  bool parts = true;                  // also the turns of each part of T about its own continuous axis (a table's legs)
+  double part_normal_angle_deg = 45;  // neighbouring samples are in one part when their normals agree this well
+  Index part_min_samples = 100;       // smaller parts are not searched; >= 10
+  int part_turns = 4;                 // a part's axis offers the turns by multiples of 360 / this degrees; [2, 360]
   bool planar = false;  // only the z axis (mode curves; set by the engine, no key): a half turn about an axis of the
                         // plane maps a drawing to its mirror image, which is no motion of the plane
 };
@@ -49,14 +53,31 @@ struct SymmetryAxis {
   int order = 0;                                         // 0 = continuous, else n-fold
 };
 
+// A part of the shape (a leg of a table) that is a body of revolution about an axis of its own, not the shape's.
+struct PartSymmetry {
+  SymmetryAxis axis;                  // continuous (order 0)
+  std::vector<std::int32_t> samples;  // the part's samples, ascending
+};
+
 struct SymmetryResult {
   std::vector<SymmetryAxis> axes;          // axes with a symmetry, continuous ones first
   std::vector<Similarity> rotations;       // the symmetry group (identity excluded): shape -> shape
   std::optional<SymmetryAxis> continuous;  // the first continuous axis, if any
+  std::vector<PartSymmetry> parts;         // parts symmetric about their own axis (find_part_symmetries)
 };
 
 // `shape` needs normals; `spacing` is alpha. Deterministic.
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& options);
+
+// The parts of `shape` that are bodies of revolution about their own axis, which is none of `global`'s continuous
+// axes: a table's turned legs, each a symmetry of a part, not of the whole (DESIGN section 9). Parts are the connected
+// components of `mesh`'s faces when `shape` was sampled from a mesh (`mesh`, in the same frame), else of the kNN
+// graph (8 neighbours within 3 alpha) whose edges join samples with normals within `part_normal_angle_deg` (a sharp
+// edge splits parts; the blended normals where a leg meets a top may not). Each part of at least `part_min_samples`
+// samples and at most 90% of the shape is tested as a shape of its own by find_symmetries; parts about one axis (a
+// cylinder's side and caps) are one. Deterministic.
+std::vector<PartSymmetry> find_part_symmetries(const PointSet& shape, double spacing, const SymmetryResult& global,
+                                               const SymmetryOptions& options, const PointSet* mesh = nullptr);
 
 // The direction a symmetric object stands along: its continuous axis, else its discrete axis of highest order when
 // no other axis has that order, else nothing (the symmetry does not tell). A vase or a cylinder drawn y-up gives y; a
@@ -82,7 +103,9 @@ void snap_to_family_representatives(std::vector<SupportedTransform>& transforms,
 // onto Q's support. Where T has a continuous axis, Q is first replaced by the member of its family Q o G_theta whose
 // rotation is nearest the identity (ICP slides it freely along the axis), which is a candidate too: its compositions
 // with the axis steps then include the axis rotations. Returned as modes whose voters are those samples, for
-// grow_supports.
+// grow_supports. With `parts`, Q is also composed with each part's turns about the part's own axis (by multiples of
+// 360 / part_turns degrees), where Q's support reaches the part: the voters are then the part's samples that the turn
+// carries onto that support, so that the part's unseen side can take its seen side's detail.
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
                                       const SymmetryResult& target_symmetry, const PointSet& target,
                                       const SymmetryOptions& options);

@@ -155,6 +155,71 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   EXPECT_GE(faces_reached, 3);  // +y, -x and +x: the sides a corner view cannot see
 }
 
+// Two closed cylinders of different radii side by side: the whole has no rotational symmetry, but each cylinder is a
+// body of revolution about its own axis (a table's legs), so the identity, seen on the cylinders' fronts, composed with
+// the half turn about the second cylinder's own axis carries that front onto its back.
+PointSet two_cylinders() {
+  const auto cylinder = [](double r, double x) {
+    return transformed(make_prism([=](double) { return r; }, 0.0, 0.6, 96),
+                       Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(x, 0, 0), 1.0});
+  };
+  return merged(cylinder(0.1, -0.3), cylinder(0.07, 0.3));
+}
+
+TEST(Symmetry, EachCylinderOfTwoIsAPartSymmetricAboutItsOwnAxis) {
+  double alpha = 0;
+  const PointSet shape = samples_of(two_cylinders(), alpha);
+  const SymmetryResult r = find_symmetries(shape, alpha, {});
+  EXPECT_FALSE(r.continuous);
+  const std::vector<PartSymmetry> parts = find_part_symmetries(shape, alpha, r, {});
+  ASSERT_EQ(parts.size(), 2u);  // each side with its caps
+  for (const auto& p : parts) {
+    EXPECT_NEAR(std::abs(p.axis.direction.z()), 1.0, 1e-6);
+    EXPECT_NEAR(std::abs(p.axis.centre.x()), 0.3, 0.01);
+    EXPECT_NEAR(p.axis.centre.y(), 0.0, 0.01);
+  }
+  EXPECT_GT(parts[0].samples.size() + parts[1].samples.size(), size_t(0.95 * double(shape.size())));
+  SymmetryOptions no_parts;
+  no_parts.parts = false;
+  EXPECT_TRUE(find_part_symmetries(shape, alpha, r, no_parts).empty());
+}
+
+// The modes whose transform is the half turn about the vertical through (0.3, 0), the second cylinder's own axis.
+std::vector<Mode> half_turns_about_the_second_axis(const std::vector<Mode>& modes) {
+  const Eigen::Vector3d axis_point(0.3, 0, 0.3);
+  const Eigen::Matrix3d half_turn = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<Mode> out;
+  for (const auto& m : modes)
+    if ((m.transform.rotation - half_turn).norm() < 1e-6 && (m.transform.apply(axis_point) - axis_point).norm() < 0.01)
+      out.push_back(m);
+  return out;
+}
+
+TEST(Symmetry, ComposedCandidatesHoldTheHalfTurnAboutTheSecondCylindersOwnAxis) {
+  double alpha = 0;
+  const PointSet shape = samples_of(two_cylinders(), alpha);
+  SymmetryResult r = find_symmetries(shape, alpha, {});
+  r.parts = find_part_symmetries(shape, alpha, r, {});
+  // One found transform: the identity, supported on the cylinders' sides facing -y.
+  std::vector<SupportedTransform> found(1);
+  for (Index t = 0; t < shape.size(); ++t)
+    if (shape.normals().col(t).y() < -0.5) found[0].support.push_back(std::int32_t(t));
+  const std::vector<Mode> turns = half_turns_about_the_second_axis(composed_candidates(found, r, shape, {}));
+  ASSERT_EQ(turns.size(), 1u);
+  // Its voters are the second cylinder's back, which the half turn carries onto its front.
+  ASSERT_GT(turns[0].voters.size(), 100u);
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (const auto t : turns[0].voters) {
+    EXPECT_GT(shape.positions()(0, t), 0.2);
+    n += shape.normals().col(t);
+  }
+  EXPECT_GT(n.normalized().y(), 0.9);
+  // The whole's own symmetries (half turns end over end) do not offer it.
+  SymmetryOptions no_parts;
+  no_parts.parts = false;
+  EXPECT_TRUE(half_turns_about_the_second_axis(composed_candidates(found, r, shape, no_parts)).empty());
+}
+
 // A square drawn in the z = 0 plane (mode curves): a half turn about x or y maps it onto itself, but as its mirror
 // image, which no motion of the plane does; planar keeps to the z axis.
 TEST(Symmetry, PlanarDrawingsHaveOnlyTheirInPlaneRotations) {
