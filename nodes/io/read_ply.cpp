@@ -266,17 +266,18 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view d
   return {encoding, std::move(elements), pos, line_no};
 }
 
+// Whether a PLY header read so far is complete: a line "end_header" has ended (a comment may mention end_header).
+bool header_complete(std::string_view d) {
+  for (size_t at = d.find("\nend_header"); at != std::string_view::npos; at = d.find("\nend_header", at + 1)) {
+    const size_t after = at + std::strlen("\nend_header");
+    if (d.substr(after).starts_with("\n") || d.substr(after).starts_with("\r\n")) return true;
+  }
+  return false;
+}
+
 FileHeader read_ply_header(const std::filesystem::path& path) {
   std::uint64_t file_size = 0;
-  // Complete once a line "end_header" has ended (a comment may mention end_header).
-  const auto complete = [](std::string_view d) {
-    for (size_t at = d.find("\nend_header"); at != std::string_view::npos; at = d.find("\nend_header", at + 1)) {
-      const size_t after = at + std::strlen("\nend_header");
-      if (d.substr(after).starts_with("\n") || d.substr(after).starts_with("\r\n")) return true;
-    }
-    return false;
-  };
-  const std::string head = read_head(path, complete, file_size);
+  const std::string head = read_head(path, header_complete, file_size);
   const PlyHeader h = parse_ply_header(path, head, file_size);
   FileHeader out;
   out.format = "ply";
@@ -472,14 +473,7 @@ namespace scanfill {
 PlyChunkReader::PlyChunkReader(const std::filesystem::path& path) : path_(path) {
   using namespace io;
   std::uint64_t file_size = 0;
-  const auto complete = [](std::string_view d) {
-    for (size_t at = d.find("\nend_header"); at != std::string_view::npos; at = d.find("\nend_header", at + 1)) {
-      const size_t after = at + std::strlen("\nend_header");
-      if (d.substr(after).starts_with("\n") || d.substr(after).starts_with("\r\n")) return true;
-    }
-    return false;
-  };
-  const std::string head = read_head(path, complete, file_size);
+  const std::string head = read_head(path, header_complete, file_size);
   const PlyHeader h = parse_ply_header(path, head, file_size);
   if (h.encoding == Encoding::kAscii) fail(path, "chunked reading needs a binary PLY, this one is ascii");
   const Element& vertex = h.elements.front();

@@ -149,6 +149,31 @@ TEST(Expansion, LabelCostRemovesARedundantLabel) {
   EXPECT_NEAR(costly.energy_after, 4.0, 1e-12);
 }
 
+// 600 sites on a ring with chords, 6 labels feasible on overlapping arcs, label costs: many moves, most rejected
+// after the first sweep.
+LabelingProblem ring_problem(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const int sites = 600, labels = 6;
+  LabelingProblem p;
+  p.labels = labels;
+  for (int i = 0; i < sites; ++i) {
+    std::vector<std::pair<int, double>> costs{{0, 2.0 + u(rng)}};
+    for (int l = 1; l < labels; ++l)
+      if (std::abs(i - 100 * l) < 150 || u(rng) < 0.05) costs.push_back({l, 3.0 * u(rng)});
+    p.add_site(costs);
+  }
+  for (int i = 0; i < sites; ++i) {
+    p.edges.push_back({i, (i + 1) % sites});
+    if (u(rng) < 0.3) p.edges.push_back({i, int(u(rng) * (sites - 1) + 1 + i) % sites});
+  }
+  std::vector<double> position(static_cast<size_t>(labels));
+  for (auto& x : position) x = u(rng);
+  p.pairwise = [position](Index, int a, int b) { return 0.2 + std::abs(position[size_t(a)] - position[size_t(b)]); };
+  p.label_cost.assign(size_t(labels), 0.0);
+  for (int l = 1; l < labels; ++l) p.label_cost[size_t(l)] = 40 * u(rng);
+  return p;
+}
+
 TEST(Expansion, LocalEnergyChangesAddUpToTheTrueEnergy) {
   // Larger problems than brute force allows (600 sites on a ring with chords, 6 sparse labels, label costs that make
   // labels appear and vanish): the moves' locally computed energy changes must sum to E of the result.
@@ -157,23 +182,7 @@ TEST(Expansion, LocalEnergyChangesAddUpToTheTrueEnergy) {
   std::ptrdiff_t emptied = 0;  // labels the label costs removed, over all trials
   for (int trial = 0; trial < 10; ++trial) {
     const int sites = 600, labels = 6;
-    LabelingProblem p;
-    p.labels = labels;
-    for (int i = 0; i < sites; ++i) {
-      std::vector<std::pair<int, double>> costs{{0, 2.0 + u(rng)}};
-      for (int l = 1; l < labels; ++l)
-        if (std::abs(i - 100 * l) < 150 || u(rng) < 0.05) costs.push_back({l, 3.0 * u(rng)});
-      p.add_site(costs);
-    }
-    for (int i = 0; i < sites; ++i) {
-      p.edges.push_back({i, (i + 1) % sites});
-      if (u(rng) < 0.3) p.edges.push_back({i, int(u(rng) * (sites - 1) + 1 + i) % sites});
-    }
-    std::vector<double> position(static_cast<size_t>(labels));
-    for (auto& x : position) x = u(rng);
-    p.pairwise = [position](Index, int a, int b) { return 0.2 + std::abs(position[size_t(a)] - position[size_t(b)]); };
-    p.label_cost.assign(size_t(labels), 0.0);
-    for (int l = 1; l < labels; ++l) p.label_cost[size_t(l)] = 40 * u(rng);
+    const LabelingProblem p = ring_problem(rng);
     const ExpansionResult r = alpha_expansion(p, std::vector<int>(size_t(sites), 0));
     ASSERT_FALSE(r.energy_trace.empty());
     EXPECT_NEAR(r.energy_trace.back(), labeling_energy(p, r.labeling), 1e-8) << "trial " << trial;
@@ -200,31 +209,6 @@ TEST(Expansion, LocalEnergyChangesAddUpToTheTrueEnergy) {
         std::count(used_before.begin(), used_before.end(), 1) - std::count(used_after.begin(), used_after.end(), 1);
   }
   EXPECT_GT(emptied, 0);  // label costs emptied labels: the auxiliary-variable construction was exercised
-}
-
-// 600 sites on a ring with chords, 6 labels feasible on overlapping arcs, label costs: many moves, most rejected
-// after the first sweep.
-LabelingProblem ring_problem(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0, 1);
-  const int sites = 600, labels = 6;
-  LabelingProblem p;
-  p.labels = labels;
-  for (int i = 0; i < sites; ++i) {
-    std::vector<std::pair<int, double>> costs{{0, 2.0 + u(rng)}};
-    for (int l = 1; l < labels; ++l)
-      if (std::abs(i - 100 * l) < 150 || u(rng) < 0.05) costs.push_back({l, 3.0 * u(rng)});
-    p.add_site(costs);
-  }
-  for (int i = 0; i < sites; ++i) {
-    p.edges.push_back({i, (i + 1) % sites});
-    if (u(rng) < 0.3) p.edges.push_back({i, int(u(rng) * (sites - 1) + 1 + i) % sites});
-  }
-  std::vector<double> position(static_cast<size_t>(labels));
-  for (auto& x : position) x = u(rng);
-  p.pairwise = [position](Index, int a, int b) { return 0.2 + std::abs(position[size_t(a)] - position[size_t(b)]); };
-  p.label_cost.assign(size_t(labels), 0.0);
-  for (int l = 1; l < labels; ++l) p.label_cost[size_t(l)] = 40 * u(rng);
-  return p;
 }
 
 TEST(Expansion, TwoThreadsGiveTheSequentialSweepBitForBit) {
