@@ -255,19 +255,23 @@ SolverSummary solve_deformation(const DeformationProblem& pr, std::vector<double
   SolverSummary summary{"NO_CONVERGENCE", 1, lin.cost, lin.cost};
   std::vector<Block> blocks;
   Eigen::VectorXd gradient, damping;
-  assemble(pr, pat, x, lin, blocks, gradient);
+  const auto linearise_at_x = [&] {
+    assemble(pr, pat, x, lin, blocks, gradient);
+    damping = damping_scale(pat, blocks);
+  };
+  linearise_at_x();
   double radius = 1e4, decrease = 2;
   const auto converged = [&] {
     summary.termination = "CONVERGENCE";
     return summary;
   };
+  const auto shrink = [&] { radius /= decrease, decrease *= 2; };  // after an unsuccessful step
   for (int step = 0; step < max_iterations; ++step, ++summary.iterations) {
     if (gradient.lpNorm<Eigen::Infinity>() <= 1e-10) return converged();
-    damping = damping_scale(pat, blocks);
     const Eigen::VectorXd delta =
         cholesky.factorize(blocks, damping / radius) ? Eigen::VectorXd(-cholesky.solve(gradient)) : Eigen::VectorXd();
-    if (delta.size() == 0 || !delta.allFinite()) {  // an unsuccessful step: shrink the trust region
-      radius /= decrease, decrease *= 2;
+    if (delta.size() == 0 || !delta.allFinite()) {
+      shrink();
       continue;
     }
     const Eigen::Map<Eigen::VectorXd> xv(x.data(), Eigen::Index(x.size()));
@@ -279,7 +283,7 @@ SolverSummary solve_deformation(const DeformationProblem& pr, std::vector<double
     linearise(pr, candidate, trial);
     const double ratio = model > 0 ? (lin.cost - trial.cost) / model : -1;
     if (ratio <= 1e-3) {
-      radius /= decrease, decrease *= 2;
+      shrink();
       continue;
     }
     const double change = (lin.cost - trial.cost) / std::max(lin.cost, 1e-300);
@@ -292,7 +296,7 @@ SolverSummary solve_deformation(const DeformationProblem& pr, std::vector<double
       ++summary.iterations;
       return converged();
     }
-    assemble(pr, pat, x, lin, blocks, gradient);
+    linearise_at_x();
   }
   return summary;
 }

@@ -124,13 +124,13 @@ class Workspace {
     leaving_.assign(size_t(p_.labels), 0);
   }
 
-  // The expansion move on `a` against the current labelling; false if it has no variables.
-  bool propose(int a, Proposal& out) {
+  // The expansion move on `a` against the current labelling (no switched sites when it has no variables).
+  void propose(int a, Proposal& out) {
     out.label = a;
     out.switched.clear();
     out.delta = 0;
     out.truncated = 0;
-    if (x_.feasible_[size_t(a)].empty() || !collect_variables(a)) return false;
+    if (x_.feasible_[size_t(a)].empty() || !collect_variables(a)) return;
     add_unary_terms(a);
     add_pairwise_terms(a);
     if (!p_.label_cost.empty()) add_label_cost_terms();
@@ -140,7 +140,6 @@ class Workspace {
     out.delta = move_delta(a);
     for (const auto i : vars_) var_[size_t(i)] = -1;
     out.switched = switched_;
-    return true;
   }
 
  private:
