@@ -3,12 +3,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <complex>
 #include <numeric>
-#include <queue>
+#include <tuple>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -38,54 +39,112 @@ void tangent_frame(const Eigen::Vector3d& n, Eigen::Vector3d& u, Eigen::Vector3d
   v = n.cross(u);
 }
 
-// Orients normals by propagation over a minimum spanning tree of the symmetrised kNN graph (Prim).
+// An edge i < j of the kNN graph and its orientation cost 1 - |n_i . n_j|, the same for either sign of either normal.
+struct OrientEdge {
+  double cost;
+  std::int32_t i, j;
+  bool operator<(const OrientEdge& o) const { return std::tie(cost, i, j) < std::tie(o.cost, o.i, o.j); }
+};
+
+// The kNN graph's edges by increasing cost, ties by their ends: one order whatever the thread count.
+std::vector<OrientEdge> edges_by_cost(const Eigen::Matrix3Xd& N, const std::vector<std::int32_t>& knn, int k) {
+  const Index n = N.cols();
+  const size_t per_point = size_t(k - 1);
+  std::vector<OrientEdge> edges(size_t(n) * per_point);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
+    for (Index i = r.begin(); i != r.end(); ++i)
+      for (int a = 1; a < k; ++a) {
+        const std::int32_t j = knn[size_t(i * k + a)];
+        const double cost = 1.0 - std::abs(N.col(i).dot(N.col(j)));
+        edges[size_t(i) * per_point + size_t(a - 1)] = {cost, std::min(std::int32_t(i), j),
+                                                        std::max(std::int32_t(i), j)};
+      }
+  });
+  tbb::parallel_sort(edges.begin(), edges.end());
+  return edges;
+}
+
+// Disjoint sets over [0, n) with path halving and union by size.
+class DisjointSets {
+ public:
+  explicit DisjointSets(Index n) : parent_(size_t(n)), size_(size_t(n), 1) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  std::int32_t find(std::int32_t x) {
+    while (parent_[size_t(x)] != x) x = parent_[size_t(x)] = parent_[size_t(parent_[size_t(x)])];
+    return x;
+  }
+  // Joins the sets of a and b; false when they were one already.
+  bool join(std::int32_t a, std::int32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return false;
+    if (size_[size_t(a)] < size_[size_t(b)]) std::swap(a, b);
+    parent_[size_t(b)] = a;
+    size_[size_t(a)] += size_[size_t(b)];
+    return true;
+  }
+
+ private:
+  std::vector<std::int32_t> parent_;
+  std::vector<std::int32_t> size_;
+};
+
+// A forest as adjacency lists in CSR.
+struct Forest {
+  std::vector<std::int64_t> offset;
+  std::vector<std::int32_t> adjacent;
+};
+
+// The minimum spanning forest of the kNN graph (Kruskal), for orientation costs 1 - |n_i . n_j|.
+Forest spanning_forest(const Eigen::Matrix3Xd& N, const std::vector<std::int32_t>& knn, int k) {
+  const Index n = N.cols();
+  std::vector<std::pair<std::int32_t, std::int32_t>> kept;
+  DisjointSets sets(n);
+  for (const OrientEdge& e : edges_by_cost(N, knn, k))
+    if (sets.join(e.i, e.j)) kept.emplace_back(e.i, e.j);
+  Forest f{std::vector<std::int64_t>(size_t(n) + 1, 0), std::vector<std::int32_t>(2 * kept.size())};
+  for (const auto& [i, j] : kept) {
+    ++f.offset[size_t(i) + 1];
+    ++f.offset[size_t(j) + 1];
+  }
+  std::partial_sum(f.offset.begin(), f.offset.end(), f.offset.begin());
+  std::vector<std::int64_t> fill(f.offset.begin(), f.offset.end() - 1);
+  for (const auto& [i, j] : kept) {
+    f.adjacent[size_t(fill[size_t(i)]++)] = j;
+    f.adjacent[size_t(fill[size_t(j)]++)] = i;
+  }
+  return f;
+}
+
+// Orients normals by propagation over a minimum spanning tree of the symmetrised kNN graph (Hoppe et al.): each
+// tree's highest point's normal points up, each other normal agrees with its parent's, and then each tree's normals
+// are flipped together when they point towards the centroid on balance.
 void orient_by_propagation(const Eigen::Matrix3Xd& P, Eigen::Matrix3Xd& N, const std::vector<std::int32_t>& knn,
                            int k) {
   const Index n = P.cols();
-  // Symmetric adjacency in CSR.
-  std::vector<std::int64_t> offset(size_t(n) + 1, 0);
-  for (Index i = 0; i < n; ++i)
-    for (int a = 1; a < k; ++a) {
-      ++offset[size_t(i) + 1];
-      ++offset[size_t(knn[size_t(i * k + a)]) + 1];
-    }
-  std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  std::vector<std::int32_t> adj(size_t(offset.back()));
-  std::vector<std::int64_t> fill(offset.begin(), offset.end() - 1);
-  for (Index i = 0; i < n; ++i)
-    for (int a = 1; a < k; ++a) {
-      const std::int32_t j = knn[size_t(i * k + a)];
-      adj[size_t(fill[size_t(i)]++)] = j;
-      adj[size_t(fill[size_t(j)]++)] = std::int32_t(i);
-    }
-
+  const Forest forest = spanning_forest(N, knn, k);
   const Eigen::Vector3d centroid = P.rowwise().mean();
   std::vector<std::uint8_t> visited(size_t(n), 0);
-  using Item = std::tuple<double, std::int32_t, std::int32_t>;  // cost, node, parent
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
   std::vector<std::int32_t> component;
-  // Seeds in order of decreasing z (Hoppe: the highest point's normal points up).
   std::vector<std::int32_t> by_z(static_cast<size_t>(n));
   std::iota(by_z.begin(), by_z.end(), 0);
   std::stable_sort(by_z.begin(), by_z.end(), [&](auto a, auto b) { return P(2, a) > P(2, b); });
   for (const std::int32_t seed : by_z) {
     if (visited[size_t(seed)]) continue;
     if (N(2, seed) < 0) N.col(seed) *= -1;
-    component.clear();
-    heap.push({0.0, seed, seed});
-    while (!heap.empty()) {
-      const auto [cost, i, parent] = heap.top();
-      heap.pop();
-      if (visited[size_t(i)]) continue;
-      visited[size_t(i)] = 1;
-      component.push_back(i);
-      if (i != parent && N.col(i).dot(N.col(parent)) < 0) N.col(i) *= -1;
-      for (std::int64_t e = offset[size_t(i)]; e < offset[size_t(i) + 1]; ++e) {
-        const std::int32_t j = adj[size_t(e)];
-        if (!visited[size_t(j)]) heap.push({1.0 - std::abs(N.col(i).dot(N.col(j))), j, i});
+    component.assign(1, seed);
+    visited[size_t(seed)] = 1;
+    for (size_t next = 0; next < component.size(); ++next) {  // breadth first: parents before children
+      const std::int32_t i = component[next];
+      for (std::int64_t e = forest.offset[size_t(i)]; e < forest.offset[size_t(i) + 1]; ++e) {
+        const std::int32_t j = forest.adjacent[size_t(e)];
+        if (visited[size_t(j)]) continue;
+        visited[size_t(j)] = 1;
+        if (N.col(j).dot(N.col(i)) < 0) N.col(j) *= -1;
+        component.push_back(j);
       }
     }
-    // Sign of the whole component: away from the centroid on balance.
     double outward = 0;
     for (const auto i : component) outward += N.col(i).dot(P.col(i) - centroid);
     if (outward < 0)

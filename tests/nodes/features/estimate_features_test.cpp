@@ -108,6 +108,33 @@ TEST(Features, SameOutputOnOneAndTwoThreads) {
   EXPECT_EQ(one.points.directions(), two.points.directions());
 }
 
+// Propagation over the kNN graph's minimum spanning forest: two spheres far apart are two trees, each oriented
+// outward on its own, and the normals are the same bytes whatever the thread count (the edges are sorted in parallel).
+TEST(Features, TwoSeparateCloudsAreEachOrientedOutwardOnAnyThreadCount) {
+  const Eigen::Matrix3Xd sphere = samples_of(make_sphere(0.5, 128), 3000).positions();
+  const Eigen::Vector3d shift(5, 0, 0);
+  Eigen::Matrix3Xd both(3, 2 * sphere.cols());
+  both << sphere, sphere.colwise() + shift;
+  const PointSet cloud(both);
+  FeaturesResult one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = estimate_features(cloud, {});
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = estimate_features(cloud, {});
+  }
+  ASSERT_EQ(one.orientation_used, NormalOrientation::kPropagate);
+  EXPECT_EQ(one.points.normals(), two.points.normals());
+  Index outward = 0;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d centre = i < sphere.cols() ? Eigen::Vector3d::Zero() : shift;
+    outward += one.points.normals().col(i).dot(cloud.positions().col(i) - centre) > 0;
+  }
+  EXPECT_EQ(outward, cloud.size());
+}
+
 // Issue 11: an absolute determinant bound in the shape-operator fit made every point of a model scaled to 1e-5 flat
 // (k1 = k2 = 0). Curvature scales as 1 / size: the same cloud scaled by s has curvatures divided by s.
 TEST(Features, CurvatureIsScaleFree) {
