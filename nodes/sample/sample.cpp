@@ -247,7 +247,7 @@ PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed
 }
 
 PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
-                                     const std::function<bool(const Eigen::Vector3d&)>& keep) {
+                                     const std::function<bool(const Eigen::Vector3d&, std::int32_t)>& keep) {
   if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
   if (n <= 0) return PointSet();
   const SurfaceTable table = surface_table(mesh);
@@ -271,10 +271,10 @@ PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_
         Part& mine = parts.local();
         draw_surface_points(
             mesh, table, seed, r,
-            [&](Index i, std::int32_t, const Eigen::Vector3d&, const Eigen::Vector3d& p, const Eigen::Vector3d& nrm) {
+            [&](Index i, std::int32_t f, const Eigen::Vector3d&, const Eigen::Vector3d& p, const Eigen::Vector3d& nrm) {
               mine.box.min = mine.box.min.cwiseMin(p);
               mine.box.max = mine.box.max.cwiseMax(p);
-              if (keep(p)) mine.kept.push_back({0, i, p, nrm});
+              if (keep(p, f)) mine.kept.push_back({0, i, p, nrm});
             });
       },
       tbb::simple_partitioner());

@@ -52,10 +52,11 @@ SampleResult sample(const PointSet& input, const SampleOptions& options, const P
 // any thread count for a seed. Throws InputError for a mesh of zero area.
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed);
 
-// The points of random_surface_points(mesh, n, seed) whose position `keep` accepts (called in parallel), positions
-// and normals, in the same order, made block by block: memory for the kept points only, never all n.
+// The points of random_surface_points(mesh, n, seed) that `keep` accepts (called in parallel with each point's position
+// and triangle), positions and normals, in the same order, made block by block: memory for the kept points only, never
+// all n.
 PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_t seed,
-                                     const std::function<bool(const Eigen::Vector3d&)>& keep);
+                                     const std::function<bool(const Eigen::Vector3d&, std::int32_t)>& keep);
 
 // Sampling a cloud too large to hold (issue 13), from a PointChunks source in two passes.
 //

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -209,8 +210,8 @@ TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, c
     const PatchInput& in = inputs[p];
     if (!in.full) continue;
     for (Index begin = 0; begin < in.full->size(); begin += chunk_points) {
-      const TransferResult run = emit_run(plan, p, in, begin, std::min(in.full->size(), begin + chunk_points), rows);
-      if (run.points.size() > 0) sink.points(run);
+      TransferResult run = emit_run(plan, p, in, begin, std::min(in.full->size(), begin + chunk_points), rows);
+      if (run.points.size() > 0) sink.points(std::move(run));
     }
     if (counts.faces > 0 && in.full->has_faces()) {
       slots_of(in, written, slot);
@@ -274,16 +275,16 @@ TransferCounts stream_plan_chunks(const TransferPlan& plan, PointChunks& exempla
       if (!copies) continue;
       const PatchInput in{copies, &target_nearest, &made[p]};
       for (Index begin = 0; begin < copies->size(); begin += chunk_points) {
-        const TransferResult out = emit_run(plan, p, in, begin, std::min(copies->size(), begin + chunk_points), rows);
-        if (out.points.size() > 0) sink.points(out);
+        TransferResult out = emit_run(plan, p, in, begin, std::min(copies->size(), begin + chunk_points), rows);
+        if (out.points.size() > 0) sink.points(std::move(out));
       }
     } else {
       Index at = 0;
       exemplar.rewind();
       while (exemplar.next(chunk_points, run)) {
         const PatchInput in{&run, &exemplar_nearest, &made[p], at};
-        const TransferResult out = emit_run(plan, p, in, 0, run.size(), rows);
-        if (out.points.size() > 0) sink.points(out);
+        TransferResult out = emit_run(plan, p, in, 0, run.size(), rows);
+        if (out.points.size() > 0) sink.points(std::move(out));
         at += run.size();
       }
     }
@@ -335,23 +336,80 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
   return g.result(std::move(faces));
 }
 
+namespace {
+
+// Where a triangle's points have their nearest target sample: all among the copied samples, none, or to be looked up
+// point by point.
+enum class FaceCopies : std::uint8_t { kNone, kAll, kLookUp };
+
+// The columns of `samples` where `copied` is `value`.
+Eigen::Matrix3Xd samples_where(const Eigen::Matrix3Xd& samples, const std::vector<char>& copied, bool value) {
+  std::vector<Index> columns;
+  for (Index i = 0; i < samples.cols(); ++i)
+    if ((copied[size_t(i)] != 0) == value) columns.push_back(i);
+  return samples(Eigen::all, columns);
+}
+
+// Distance from q to the nearest point of `tree` (infinite for an empty tree).
+double nearest_distance(const KdTree& tree, Index size, const Eigen::Vector3d& q) {
+  if (size == 0) return std::numeric_limits<double>::infinity();
+  std::int32_t index = 0;
+  double d2 = 0;
+  tree.knn(q, 1, &index, &d2);
+  return std::sqrt(d2);
+}
+
+// Per triangle of `target`, from the ball about its centroid through its farthest corner (radius r): when the nearest
+// copied sample is farther from the centroid than the nearest other sample by more than 2r (and a rounding margin),
+// every point of the triangle is nearer to an uncopied sample, and the other way round. Only the triangles along the
+// copied region's border need a lookup per point.
+std::vector<FaceCopies> face_copies(const PointSet& target, const Eigen::Matrix3Xd& samples,
+                                    const std::vector<char>& copied) {
+  const Eigen::Matrix3Xd in = samples_where(samples, copied, true), out = samples_where(samples, copied, false);
+  KdTree in_tree, out_tree;
+  if (in.cols() > 0) in_tree.build(in);
+  if (out.cols() > 0) out_tree.build(out);
+  const Eigen::Matrix3Xd& P = target.positions();
+  const Matrix3Xi& F = target.faces();
+  std::vector<FaceCopies> kind(size_t(F.cols()));
+  tbb::parallel_for(tbb::blocked_range<Index>(0, F.cols(), 1024), [&](const tbb::blocked_range<Index>& r) {
+    for (Index f = r.begin(); f != r.end(); ++f) {
+      const Eigen::Vector3d c = (P.col(F(0, f)) + P.col(F(1, f)) + P.col(F(2, f))) / 3;
+      double radius = 0;
+      for (int k = 0; k < 3; ++k) radius = std::max(radius, (P.col(F(k, f)) - c).norm());
+      const double d_in = nearest_distance(in_tree, in.cols(), c), d_out = nearest_distance(out_tree, out.cols(), c);
+      const double margin = 2 * radius + 1e-9 * (radius + std::min(d_in, d_out));
+      kind[size_t(f)] = d_in - d_out > margin   ? FaceCopies::kNone
+                        : d_out - d_in > margin ? FaceCopies::kAll
+                                                : FaceCopies::kLookUp;
+    }
+  });
+  return kind;
+}
+
+}  // namespace
+
 PointSet copied_points(const TransferPlan& plan, const PointSet& target) {
   if (!plan_copies_target(plan)) return {};
   std::vector<char> copied(size_t(plan.target_samples.cols()), 0);
   for (size_t k = 0; k < plan.patch.size(); ++k)
     if (plan.patches[size_t(plan.patch[k])].from_target) copied[size_t(plan.base[k])] = 1;
+  const Index exemplar_samples = plan.exemplar_samples.cols(), target_samples = plan.target_samples.cols();
+  const Index wanted = copy_surface_points(target, plan.exemplar_points, exemplar_samples, target_samples);
+  // The target as it is (with its triangles, which copies may carry) is already in memory.
+  if (wanted <= 0) return target;
   KdTree tree;
   tree.build(plan.target_samples);
-  const auto keep = [&](const Eigen::Vector3d& p) {
+  const std::vector<FaceCopies> faces = face_copies(target, plan.target_samples, copied);
+  // A point is copied when its nearest target sample is; most triangles answer that for all their points at once.
+  const auto keep = [&](const Eigen::Vector3d& p, std::int32_t face) {
+    if (faces[size_t(face)] != FaceCopies::kLookUp) return faces[size_t(face)] == FaceCopies::kAll;
     std::int32_t nearest = 0;
     double d2 = 0;
     tree.knn(p, 1, &nearest, &d2);
     return copied[size_t(nearest)] != 0;
   };
-  const Index exemplar_samples = plan.exemplar_samples.cols(), target_samples = plan.target_samples.cols();
-  const Index wanted = copy_surface_points(target, plan.exemplar_points, exemplar_samples, target_samples);
-  // The target as it is (with its triangles, which copies may carry) is already in memory.
-  return wanted > 0 ? random_surface_points_where(target, wanted, 1, keep) : target;
+  return random_surface_points_where(target, wanted, 1, keep);
 }
 
 TransferResult transfer_planned(const TransferPlan& plan, const PointSet* exemplar, const PointSet* target,
