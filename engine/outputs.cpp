@@ -583,6 +583,7 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
   if (config.mode == RunMode::kExchange) return write_exchange_outputs(state, staging);
   RunOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
+  if (state.output()) state.output()->writing->wait();  // output.ply's last run, written beside the surface
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
   if (state.output()) {
     write_output(*state.output(), report, outcome);

@@ -519,28 +519,32 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
     out->written = state.write_dir / "output.ply";
     // Copies come from the target's surface at the exemplar's density; only the copied points are made and held.
     const PointSet copies = copied_points(plan, target);
-    std::optional<OutputPlyWriter> writer;
+    // Runs are encoded and written beside the computing of the next one (and the last beside the surface).
+    out->writing = std::make_shared<SerialBackground>();
+    std::shared_ptr<OutputPlyWriter> writer;
     std::optional<EveryKth> kept;
-    const TransferSink sink{[&](const TransferCounts& c) {
-                              out->colour = resolved_colour(state.config.output_colour, plan.colours && c.points > 0);
-                              out->intensity = plan.intensity && c.points > 0;
-                              out->stride = kept_stride(state.config, c.points);
-                              writer.emplace(out->written, c, out->intensity, out->colour,
-                                             syn.analogy->labels.self_label);
-                              kept.emplace(out->stride);
-                            },
-                            [&](const TransferResult& run) {
-                              writer->append(run);
-                              kept->add(run);
-                            },
-                            [&](const Matrix3Xi& faces) { writer->append_faces(faces); }};
+    const TransferSink sink{
+        [&](const TransferCounts& c) {
+          out->colour = resolved_colour(state.config.output_colour, plan.colours && c.points > 0);
+          out->intensity = plan.intensity && c.points > 0;
+          out->stride = kept_stride(state.config, c.points);
+          writer = std::make_shared<OutputPlyWriter>(out->written, c, out->intensity, out->colour,
+                                                     syn.analogy->labels.self_label);
+          kept.emplace(out->stride);
+        },
+        [&](TransferResult run) {
+          kept->add(run);
+          auto held = std::make_shared<const TransferResult>(std::move(run));
+          out->writing->submit([writer, held] { writer->append(*held); });
+        },
+        [&](const Matrix3Xi& faces) { out->writing->submit([writer, faces] { writer->append_faces(faces); }); }};
     if (const auto& streamed = syn.correspondence->exemplar->sampled->loaded->streamed) {
       PlyChunkReader reader(streamed->path);  // the scan a run at a time, as the sample node read it
       out->counts = stream_plan_chunks(plan, reader, streamed->summary.points, &copies, kTransferChunk, sink, progress);
     } else {
       out->counts = stream_plan(plan, &exemplar, &copies, kTransferChunk, sink, progress);
     }
-    writer->commit();
+    out->writing->submit([writer] { writer->commit(); });
     out->kept = kept->take();
     node_logger("transfer")
         ->info(

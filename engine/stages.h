@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/background.h"
 #include "engine/config.h"
 #include "engine/pipeline.h"
 #include "nodes/curves/curves.h"
@@ -129,6 +130,8 @@ struct Transferred {
   TransferResult kept;  // all the points when there are few (and in mode curves), else a bounded even subsample:
                         // the surface's and the preview's input
   std::filesystem::path written;  // output.ply, in the staging folder
+  // output.ply's last runs and its commit may still be in progress when the node returns: wait() before using it.
+  std::shared_ptr<SerialBackground> writing;
 };
 using TransferredPtr = std::shared_ptr<const Transferred>;
 

@@ -92,7 +92,7 @@ struct TransferCounts {
 // every triangle (indices into the whole output; only when counts.faces > 0).
 struct TransferSink {
   std::function<void(const TransferCounts&)> begin;
-  std::function<void(const TransferResult&)> points;
+  std::function<void(TransferResult)> points;  // each run is handed over: the sink may keep it
   std::function<void(const Matrix3Xi&)> faces;
 };
 
