@@ -31,3 +31,23 @@ for sx in (-1,1):
     q=legs&(np.sign(m['x'])==sx)&(np.sign(m['y'])==sy)
     cx,cy=np.median(m['x'][q]),np.median(m['y'][q])
     r=np.hypot(m['x'][q]-cx,m['y'][q]-cy); zq=z[q]
+    # bulb height: z bin with max radius
+    bins=np.linspace(zq.min(),zq.max(),30); idx=np.digitize(zq,bins)
+    rb=[np.percentile(r[idx==i],90) if (idx==i).sum()>5 else 0 for i in range(len(bins)+1)]
+    ib=int(np.argmax(rb)); zb=(bins[max(ib-1,0)]+bins[min(ib,len(bins)-1)])/2
+    sel=(np.abs(o['z']-zb)<0.02)&(np.hypot(o['x']-cx,o['y']-cy)<0.12)
+    ro=np.hypot(o['x'][sel]-cx,o['y'][sel]-cy)
+    s=f"leg({sx:+d},{sy:+d}) c=({cx:.2f},{cy:.2f}) bulb z={zb:.3f} model r90={rb[ib]:.3f} plain(min bin r)={min(x for x in rb if x>0):.3f} |"
+    for org in np.unique(o['origin'][sel]):
+        k=o['origin'][sel]==org
+        s+=f" origin{org}: n={k.sum()} r med={np.median(ro[k]):.3f} labels={np.unique(o['label'][sel][k]).tolist()[:5]}"
+    print(s)
+print('--- correspondence.ply')
+c=readply('out/correspondence.ply'); print('sides',np.unique(c['side'],return_counts=True))
+for sx in (-1,1):
+  for sy in (-1,1):
+    cx,cy=0.42*sx,0.22*sy
+    for sd in np.unique(c['side']):
+      sel=(c['side']==sd)&(np.abs(c['z']-0.033)<0.02)&(np.hypot(c['x']-cx,c['y']-cy)<0.12)
+      ro=np.hypot(c['x'][sel]-cx,c['y'][sel]-cy)
+      print(f"leg({sx:+d},{sy:+d}) side{sd} n={sel.sum()} r med={np.median(ro) if sel.sum() else -1:.3f} max={ro.max() if sel.sum() else -1:.3f}")
