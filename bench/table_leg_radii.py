@@ -42,12 +42,3 @@ for sx in (-1,1):
         k=o['origin'][sel]==org
         s+=f" origin{org}: n={k.sum()} r med={np.median(ro[k]):.3f} labels={np.unique(o['label'][sel][k]).tolist()[:5]}"
     print(s)
-print('--- correspondence.ply')
-c=readply('out/correspondence.ply'); print('sides',np.unique(c['side'],return_counts=True))
-for sx in (-1,1):
-  for sy in (-1,1):
-    cx,cy=0.42*sx,0.22*sy
-    for sd in np.unique(c['side']):
-      sel=(c['side']==sd)&(np.abs(c['z']-0.033)<0.02)&(np.hypot(c['x']-cx,c['y']-cy)<0.12)
-      ro=np.hypot(c['x'][sel]-cx,c['y'][sel]-cy)
-      print(f"leg({sx:+d},{sy:+d}) side{sd} n={sel.sum()} r med={np.median(ro) if sel.sum() else -1:.3f} max={ro.max() if sel.sum() else -1:.3f}")
