@@ -11,6 +11,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "nodes/core/disjoint_sets.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/features/features_options.h"
@@ -63,32 +64,6 @@ std::vector<OrientEdge> edges_by_cost(const Eigen::Matrix3Xd& N, const std::vect
   tbb::parallel_sort(edges.begin(), edges.end());
   return edges;
 }
-
-// Disjoint sets over [0, n) with path halving and union by size.
-class DisjointSets {
- public:
-  explicit DisjointSets(Index n) : parent_(size_t(n)), size_(size_t(n), 1) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  std::int32_t find(std::int32_t x) {
-    while (parent_[size_t(x)] != x) x = parent_[size_t(x)] = parent_[size_t(parent_[size_t(x)])];
-    return x;
-  }
-  // Joins the sets of a and b; false when they were one already.
-  bool join(std::int32_t a, std::int32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    if (size_[size_t(a)] < size_[size_t(b)]) std::swap(a, b);
-    parent_[size_t(b)] = a;
-    size_[size_t(a)] += size_[size_t(b)];
-    return true;
-  }
-
- private:
-  std::vector<std::int32_t> parent_;
-  std::vector<std::int32_t> size_;
-};
 
 // A forest as adjacency lists in CSR.
 struct Forest {

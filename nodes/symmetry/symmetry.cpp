@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "nodes/core/disjoint_sets.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/symmetry/symmetry_options.h"
@@ -103,12 +104,6 @@ double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
   return std::atan2(e.dot(a.cross(r_perp)), e.dot(r_perp));
 }
 
-// The root of i in a union-find forest whose roots are their component's smallest index.
-std::int32_t root_of(std::vector<std::int32_t>& parent, std::int32_t i) {
-  while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
-  return i;
-}
-
 // Connected components of the kNN graph (8 neighbours within 3 alpha) over edges whose normals agree within
 // `normal_angle_deg`, each ascending, ordered by their smallest sample.
 std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, double spacing,
@@ -120,20 +115,18 @@ std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, 
   std::vector<double> d2;
   const std::vector<std::int32_t> graph = knn_graph(tree, shape.positions(), k, &d2);
   const double cos_limit = std::cos(normal_angle_deg * M_PI / 180), limit2 = std::pow(3 * spacing, 2);
-  std::vector<std::int32_t> parent(static_cast<size_t>(n));
-  for (Index i = 0; i < n; ++i) parent[size_t(i)] = std::int32_t(i);
+  DisjointSets sets(n);
   for (Index i = 0; i < n; ++i)
     for (int e = 0; e < k; ++e) {
       const std::int32_t j = graph[size_t(i * k + e)];
       if (j < 0 || d2[size_t(i * k + e)] > limit2) continue;
       if (shape.normals().col(i).dot(shape.normals().col(j)) < cos_limit) continue;
-      const std::int32_t a = root_of(parent, std::int32_t(i)), b = root_of(parent, j);
-      if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+      sets.join(std::int32_t(i), j);
     }
   std::vector<std::vector<std::int32_t>> components;
   std::vector<std::int32_t> slot(static_cast<size_t>(n), -1);
   for (Index i = 0; i < n; ++i) {
-    const std::int32_t r = root_of(parent, std::int32_t(i));
+    const std::int32_t r = sets.find(std::int32_t(i));
     if (slot[size_t(r)] < 0) {
       slot[size_t(r)] = std::int32_t(components.size());
       components.emplace_back();
@@ -181,20 +174,16 @@ void append_part_turns(const Similarity& q, const std::vector<std::int32_t>& sup
 // template was modelled from (a table's top and legs), which a junction's blended normals cannot join. Ascending,
 // ordered by their smallest sample.
 std::vector<std::vector<std::int32_t>> mesh_components(const PointSet& shape, const PointSet& mesh) {
-  std::vector<std::int32_t> parent(static_cast<size_t>(mesh.size()), -1);
+  std::vector<char> used(static_cast<size_t>(mesh.size()), 0);
+  DisjointSets sets(mesh.size());
   for (Index f = 0; f < mesh.faces().cols(); ++f)
     for (int c = 0; c < 3; ++c) {
-      const std::int32_t v = mesh.faces()(c, f);
-      if (parent[size_t(v)] < 0) parent[size_t(v)] = v;
-    }
-  for (Index f = 0; f < mesh.faces().cols(); ++f)
-    for (int c = 1; c < 3; ++c) {
-      const std::int32_t a = root_of(parent, mesh.faces()(0, f)), b = root_of(parent, mesh.faces()(c, f));
-      if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+      used[size_t(mesh.faces()(c, f))] = 1;
+      if (c > 0) sets.join(mesh.faces()(0, f), mesh.faces()(c, f));
     }
   std::vector<std::int32_t> on_face;
   for (Index v = 0; v < mesh.size(); ++v)
-    if (parent[size_t(v)] >= 0) on_face.push_back(std::int32_t(v));
+    if (used[size_t(v)]) on_face.push_back(std::int32_t(v));
   const Eigen::Matrix3Xd vertices = subset(mesh, on_face).positions();
   KdTree tree;
   tree.build(vertices);
@@ -204,7 +193,7 @@ std::vector<std::vector<std::int32_t>> mesh_components(const PointSet& shape, co
   std::vector<std::vector<std::int32_t>> components;
   std::vector<std::int32_t> slot(static_cast<size_t>(mesh.size()), -1);
   for (Index i = 0; i < shape.size(); ++i) {
-    const std::int32_t r = root_of(parent, on_face[size_t(nearest[size_t(i)])]);
+    const std::int32_t r = sets.find(on_face[size_t(nearest[size_t(i)])]);
     if (slot[size_t(r)] < 0) {
       slot[size_t(r)] = std::int32_t(components.size());
       components.emplace_back();
