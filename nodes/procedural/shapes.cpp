@@ -460,6 +460,109 @@ std::vector<double> smoothed_profile(std::vector<double> radius) {
   return smooth;
 }
 
+// An end of the body is closed when the model's surface in the last 2% of its height there (at least one ring's bin)
+// covers at least 3/4 of the end's disk: a candle's flat bottom, a vase's floor or lid, but not a vase's mouth, whose
+// slab holds only the wall and the rim.
+constexpr double kEndSlab = 0.02;
+constexpr double kClosedCoverage = 0.75;
+
+// The first and last ring bin of the slab at one end.
+std::pair<int, int> end_bins(int rings, bool top) {
+  const int k = std::max(1, int(std::ceil(kEndSlab * rings)));
+  return top ? std::pair{rings - k + 1, rings} : std::pair{0, k - 1};
+}
+
+// The q-quantile (q in [0, 1]) of `xs`, which must not be empty.
+double quantile(std::vector<double> xs, double q) {
+  auto at = xs.begin() + std::ptrdiff_t(std::lround(q * double(xs.size() - 1)));
+  std::nth_element(xs.begin(), at, xs.end());
+  return *at;
+}
+
+// The distances from the axis of the model's points in the slab at one end.
+std::vector<double> end_radii(const AxialSamples& a, int rings, bool top) {
+  const auto [first, last] = end_bins(rings, top);
+  std::vector<double> r;
+  for (int b = first; b <= last; ++b) r.insert(r.end(), a.bins[size_t(b)].begin(), a.bins[size_t(b)].end());
+  return r;
+}
+
+// The model's surface in the slab at one end, as (distance from the axis, angle about it): its points and, when it is
+// a mesh, points every `spacing` over each face that reaches the slab, so that a floor drawn as a few large triangles
+// counts as much as a finely tessellated one.
+std::vector<Eigen::Vector2d> end_surface(const PointSet& model, const RevolutionAxis& axis, const AxialSamples& a,
+                                         int rings, bool top, double spacing) {
+  const std::pair<Eigen::Vector3d, Eigen::Vector3d> frame = frame_across(axis.direction);
+  const Eigen::Vector3d u = frame.first, v = frame.second;  // not structured bindings: clang cannot capture them
+  const std::pair<int, int> bins = end_bins(rings, top);
+  const int first = bins.first, last = bins.second;
+  std::vector<Eigen::Vector2d> out;
+  const auto in_slab = [&](const Eigen::Vector3d& p) {
+    const int b = int(std::lround(((p - axis.centre).dot(axis.direction) - a.start) / a.height * rings));
+    return b >= first && b <= last;
+  };
+  const auto add = [&](const Eigen::Vector3d& p) {
+    if (!in_slab(p)) return;
+    const Eigen::Vector3d d = p - axis.centre;
+    out.emplace_back((d - d.dot(axis.direction) * axis.direction).norm(), std::atan2(d.dot(v), d.dot(u)));
+  };
+  const Eigen::Matrix3Xd& p = model.positions();
+  for (Index i = 0; i < p.cols(); ++i) add(p.col(i));
+  const Matrix3Xi& f = model.faces();
+  for (Index j = 0; j < f.cols(); ++j) {
+    const Eigen::Vector3d x = p.col(f(0, j)), y = p.col(f(1, j)), z = p.col(f(2, j));
+    // The lowest (highest) point of a face that reaches the end slab is a vertex inside it.
+    if (!in_slab(x) && !in_slab(y) && !in_slab(z)) continue;
+    const double edge = std::max({(y - x).norm(), (z - y).norm(), (x - z).norm()});
+    const int n = std::clamp(int(std::ceil(edge / spacing)), 1, 64);
+    for (int i = 0; i <= n; ++i)
+      for (int k = 0; i + k <= n; ++k) add(x + (double(i) / n) * (y - x) + (double(k) / n) * (z - x));
+  }
+  return out;
+}
+
+// The share of the disk of `radius` about the axis that `surface` (distance, angle) covers: of its 8 rings of equal
+// area by 16 sectors, the cells that hold a point.
+double disk_coverage(const std::vector<Eigen::Vector2d>& surface, double radius) {
+  constexpr int kBands = 8, kSectors = 16;
+  std::array<bool, kBands * kSectors> hit{};
+  for (const Eigen::Vector2d& q : surface) {
+    if (q.x() > radius) continue;
+    const int band = std::min(kBands - 1, int(q.x() * q.x() / (radius * radius) * kBands));
+    const int sector = std::clamp(int((q.y() + M_PI) / (2 * M_PI) * kSectors), 0, kSectors - 1);
+    hit[size_t(band * kSectors + sector)] = true;
+  }
+  return double(std::count(hit.begin(), hit.end(), true)) / double(hit.size());
+}
+
+// The wall's distance from the axis among `radii` taken at a closed end, where the floor's points spread from the axis
+// out to the wall and pull the median in (to 0.7 of the wall's on a flat floor): their 98th percentile, which is the
+// wall's however finely the floor is tessellated, yet ignores a few points beyond it.
+double wall_radius(std::vector<double> radii) {
+  return quantile(std::move(radii), 0.98);
+}
+
+// Whether the model closes its body of revolution at one end: its surface there covers the disk out to the wall.
+bool end_is_closed(const PointSet& model, const RevolutionAxis& axis, const AxialSamples& a, int rings, bool top) {
+  const std::vector<double> r = end_radii(a, rings, top);
+  if (r.empty()) return false;
+  const double wall = wall_radius(r);
+  if (!(wall > 0)) return false;  // the model ends in a point on the axis: nothing to close
+  return disk_coverage(end_surface(model, axis, a, rings, top, wall / 32), wall) >= kClosedCoverage;
+}
+
+// The wall's distance from the axis in the bins of a closed end's slab, in place of their median.
+void wall_radii_at_floor(const AxialSamples& a, int rings, bool top, std::vector<double>& radius) {
+  const auto [first, last] = end_bins(rings, top);
+  for (int b = first; b <= last; ++b)
+    if (!a.bins[size_t(b)].empty()) radius[size_t(b)] = wall_radius(a.bins[size_t(b)]);
+}
+
+// The concentric rings of a cap of `radius` spaced about `spacing` apart (at least one).
+int cap_rings(double radius, double spacing) {
+  return std::max(1, int(std::lround(radius / spacing)));
+}
+
 }  // namespace
 
 RevolutionAxis revolution_axis(const PointSet& model, int rings) {
@@ -479,18 +582,33 @@ PointSet make_revolution(const PointSet& model, int rings, int segments) {
 PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings, int segments) {
   AxialSamples a = axial_samples(model.positions(), axis, rings);
   if (!(a.height > 0)) throw InputError("a body of revolution needs a model with some extent along its axis");
-  const std::vector<double> smooth = smoothed_profile(median_radii(a.bins));
   const std::pair<Eigen::Vector3d, Eigen::Vector3d> frame = frame_across(axis.direction);
   const Eigen::Vector3d u = frame.first, v = frame.second;  // not a structured binding: clang cannot capture one
+  const std::array<bool, 2> closed{end_is_closed(model, axis, a, rings, false),
+                                   end_is_closed(model, axis, a, rings, true)};
+  std::vector<double> radius = median_radii(a.bins);
+  for (int top = 0; top < 2; ++top)
+    if (closed[size_t(top)]) wall_radii_at_floor(a, rings, top == 1, radius);
+  const std::vector<double> smooth = smoothed_profile(radius);
   const double start = a.start, height = a.height;
+  const auto at = [&](double s, double r, double h) {
+    const double phi = 2 * M_PI * s;
+    return Eigen::Vector3d(axis.centre + r * std::cos(phi) * u + r * std::sin(phi) * v + h * axis.direction);
+  };
   MeshBuilder m;
-  m.grid(
-      [&](double s, double t) {
-        const double phi = 2 * M_PI * s, r = smooth[size_t(std::lround(t * rings))];
-        return Eigen::Vector3d(axis.centre + r * std::cos(phi) * u + r * std::sin(phi) * v +
-                               (start + t * height) * axis.direction);
-      },
-      segments, rings, true);
+  m.grid([&](double s, double t) { return at(s, smooth[size_t(std::lround(t * rings))], start + t * height); },
+         segments, rings, true);
+  // The caps' rings as far apart as the wall's, so that their vertices are about as dense.
+  const double spacing = height / rings;
+  if (closed[0]) {  // radius growing with t: normal -axis
+    const double r = smooth.front();
+    m.grid([&](double s, double t) { return at(s, t * r, start); }, segments, cap_rings(r, spacing), true);
+  }
+  if (closed[1]) {  // radius shrinking with t: normal +axis
+    const double r = smooth.back();
+    m.grid([&](double s, double t) { return at(s, (1 - t) * r, start + height); }, segments, cap_rings(r, spacing),
+           true);
+  }
   return m.build();
 }
 

@@ -75,8 +75,10 @@ struct RevolutionAxis {
 RevolutionAxis revolution_axis(const PointSet& model, int rings = 128);
 
 // The body of revolution about the model's revolution_axis that best fits it: per height, the median distance of its
-// points from the axis, smoothed; an open tube from the lowest to the highest point along the axis. The plain
-// structural template of a vase-like scan (relief, beads and handles averaged away).
+// points from the axis, smoothed; a tube from the lowest to the highest point along the axis, closed at an end by a
+// flat cap (outward normal along the axis) where the model is closed there: where its surface in the last 2% of the
+// height covers the end's disk (a candle's bottom, a vase's floor), not at a vase's mouth. The plain structural
+// template of a vase-like scan (relief, beads and handles averaged away).
 PointSet make_revolution(const PointSet& model, int rings = 128, int segments = 256);
 // The same about a given axis.
 PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings = 128, int segments = 256);

@@ -1,0 +1,119 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "nodes/core/point_set.h"
+#include "nodes/io/read_point_set.h"
+#include "nodes/procedural/shapes.h"
+#include "test_util.h"
+
+namespace scanfill {
+namespace {
+
+// The flat faces of a body of revolution at one end along `axis`: the area of those facing out of the body (along
+// -axis at the bottom, +axis at the top), of those facing in, and the radius of the end's outermost vertex.
+struct EndFaces {
+  double outward = 0, inward = 0, ring = 0;
+};
+
+EndFaces end_faces(const PointSet& mesh, const Eigen::Vector3d& axis, const Eigen::Vector3d& centre, bool top) {
+  const Eigen::Matrix3Xd& p = mesh.positions();
+  const double end = top ? (axis.transpose() * p).maxCoeff() : (axis.transpose() * p).minCoeff();
+  const auto at_end = [&](Index i) { return std::abs(axis.dot(p.col(i)) - end) < 1e-9; };
+  EndFaces e;
+  for (Index i = 0; i < p.cols(); ++i)
+    if (at_end(i)) {
+      const Eigen::Vector3d d = p.col(i) - centre;
+      e.ring = std::max(e.ring, (d - d.dot(axis) * axis).norm());
+    }
+  for (Index j = 0; j < mesh.faces().cols(); ++j) {
+    const auto f = mesh.faces().col(j);
+    if (!at_end(f(0)) || !at_end(f(1)) || !at_end(f(2))) continue;
+    const Eigen::Vector3d n = (p.col(f(1)) - p.col(f(0))).cross(p.col(f(2)) - p.col(f(0)));
+    const double out = (top ? 1 : -1) * n.dot(axis);
+    (out > 0 ? e.outward : e.inward) += n.norm() / 2;
+  }
+  return e;
+}
+
+// The end is capped: a disk out to its ring (no gap between the cap and the wall), facing out of the body.
+void expect_capped(const EndFaces& e) {
+  EXPECT_GT(e.ring, 0);
+  EXPECT_NEAR(e.outward, M_PI * e.ring * e.ring, 0.01 * M_PI * e.ring * e.ring);
+  EXPECT_EQ(e.inward, 0);
+}
+
+void expect_open(const EndFaces& e) {
+  EXPECT_EQ(e.outward, 0);
+  EXPECT_EQ(e.inward, 0);
+}
+
+// A disk of points (no faces) of `radius` at height z about the z axis: the floor of a cup.
+PointSet disk_points(double radius, double z) {
+  std::vector<Eigen::Vector3d> q;
+  for (int i = 0; i <= 24; ++i)
+    for (int k = 0; k < 96; ++k) {
+      const double r = radius * i / 24, phi = 2 * M_PI * k / 96;
+      q.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+    }
+  Eigen::Matrix3Xd m(3, Index(q.size()));
+  for (size_t i = 0; i < q.size(); ++i) m.col(Index(i)) = q[i];
+  return PointSet(std::move(m));
+}
+
+const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ(), kOrigin = Eigen::Vector3d::Zero();
+
+TEST(ProceduralRevolution, AClosedCylinderGetsBothCaps) {
+  // The column's template: a finely tessellated closed cylinder; and the same drawn low-poly, whose caps are single
+  // fans of 24 triangles with no vertex inside the disk but the centre.
+  // (About z given: revolution_axis needs more than a low-poly model's few vertices to tell its axis.)
+  for (const PointSet& model : {make_column_template(), make_lowpoly_cylinder(0.3, 0.0, 1.2, 24)}) {
+    const PointSet body = make_revolution(model, RevolutionAxis{});
+    expect_capped(end_faces(body, kZ, kOrigin, false));
+    expect_capped(end_faces(body, kZ, kOrigin, true));
+    EXPECT_NEAR(end_faces(body, kZ, kOrigin, false).ring, 0.3, 0.003);  // the wall, not pulled in by the floor
+  }
+}
+
+TEST(ProceduralRevolution, AnOpenTubeGetsNoCap) {
+  const PointSet body = make_revolution(make_cylinder(0.3, 1.0, 128));
+  expect_open(end_faces(body, kZ, kOrigin, false));
+  expect_open(end_faces(body, kZ, kOrigin, true));
+  // The procedural vase is a tube too: neither its foot nor its mouth is closed.
+  const PointSet vase = make_revolution(make_vase());
+  EXPECT_EQ(vase.faces().cols(), make_revolution(make_cylinder(0.3, 1.0, 128)).faces().cols());
+  expect_open(end_faces(vase, kZ, kOrigin, false));
+  expect_open(end_faces(vase, kZ, kOrigin, true));
+}
+
+TEST(ProceduralRevolution, ACupGetsItsFloorButKeepsItsMouthOpen) {
+  // The floor as points only: a model need not be a mesh.
+  const PointSet cup = merged(make_cylinder(0.3, 1.0, 128), disk_points(0.3, -0.5));
+  const PointSet body = make_revolution(cup);
+  expect_capped(end_faces(body, kZ, kOrigin, false));
+  expect_open(end_faces(body, kZ, kOrigin, true));
+  EXPECT_NEAR(end_faces(body, kZ, kOrigin, false).ring, 0.3, 0.003);
+  // Upside down: the floor is now the top.
+  const Similarity flip{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(), kOrigin, 1.0};
+  const PointSet bowl = make_revolution(transformed(cup, flip));
+  expect_open(end_faces(bowl, kZ, kOrigin, false));
+  expect_capped(end_faces(bowl, kZ, kOrigin, true));
+}
+
+TEST(ProceduralRevolution, TheRealCandleIsClosedAtItsFootOnly) {
+  SCANFILL_REQUIRE_SHARED_DATA();
+  // Drawn y-up: a flat round foot, and a wick that ends in a point.
+  const PointSet candle = read_point_set(test::shared_data() / "models" / "text2mesh_candle.obj").points;
+  const RevolutionAxis axis = revolution_axis(candle);
+  ASSERT_GT(std::abs(axis.direction.y()), 0.999);
+  const PointSet body = make_revolution(candle, axis);
+  const Eigen::Vector3d up = axis.direction.y() > 0 ? axis.direction : Eigen::Vector3d(-axis.direction);
+  const EndFaces foot = end_faces(body, up, axis.centre, false), wick = end_faces(body, up, axis.centre, true);
+  expect_capped(foot);
+  EXPECT_GT(foot.ring, 0.55);  // the foot's edge (0.6), not the floor's median distance (0.42)
+  expect_open(wick);
+}
+
+}  // namespace
+}  // namespace scanfill
