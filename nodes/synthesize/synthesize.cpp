@@ -7,9 +7,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "nodes/core/errors.h"
-#include "nodes/core/icp.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/synthesize/synthesize_options.h"
 
@@ -32,20 +33,29 @@ struct Builder {
   }
 };
 
+// The rigid motions along which a target region slides on itself, as (w, tau) 6-vectors about `centre`, positions in
+// units of `radius`: the motion exp(s v) displaces p by s (w x (p - centre) + radius tau) to first order.
+struct Slippage {
+  std::vector<Eigen::Matrix<double, 6, 1>> motions;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1;
+};
+
 // The rigid motions along which the target region slides on itself (Gelfand and Guibas 2004, slippage analysis): the
 // eigenvectors of the point-to-plane Hessian with eigenvalues below 2% of the largest (at most two), as (w, tau)
 // 6-vectors about `centre`, with positions in units of the region's RMS radius so that rotations and translations
 // compare.
-std::vector<Eigen::Matrix<double, 6, 1>> slippable_motions(const PointSet& target, const std::vector<int>& labels,
-                                                           int label, Eigen::Vector3d& centre, double& radius) {
-  centre.setZero();
+Slippage slippable_motions(const PointSet& target, const std::vector<int>& labels, int label) {
+  Slippage out;
+  Eigen::Vector3d& centre = out.centre;
+  double& radius = out.radius;
   Index n = 0;
   for (Index t = 0; t < target.size(); ++t)
     if (labels[size_t(t)] == label) {
       centre += target.positions().col(t);
       ++n;
     }
-  if (n < 30) return {};
+  if (n < 30) return out;
   centre /= double(n);
   radius = 0;
   for (Index t = 0; t < target.size(); ++t)
@@ -60,9 +70,8 @@ std::vector<Eigen::Matrix<double, 6, 1>> slippable_motions(const PointSet& targe
     A += J * J.transpose();
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
-  std::vector<Eigen::Matrix<double, 6, 1>> out;
   for (int i = 0; i < 2; ++i)  // ascending eigenvalues: at most the two most slippable motions
-    if (eig.eigenvalues()(i) < 0.02 * eig.eigenvalues()(5)) out.push_back(eig.eigenvectors().col(i));
+    if (eig.eigenvalues()(i) < 0.02 * eig.eigenvalues()(5)) out.motions.push_back(eig.eigenvectors().col(i));
   return out;
 }
 
@@ -135,37 +144,66 @@ class PlacedImages {
     return {sum, overlap};
   }
 
-  // Rigid point-to-plane ICP of the image under c o q onto the placed images, on the overlap only (pairs within the
-  // limit with normals within 60 degrees; at least 30): returns the refined c.
-  Similarity fit_onto_placed(const Similarity& q, const Similarity& c, int iterations) const {
+  // Point-to-plane ICP of the image under c o q onto the placed images, on the overlap only (pairs within the limit
+  // with normals within 60 degrees; at least 30), by any rigid motion or only along the region's slippable motions.
+  // Returns the refined c.
+  Similarity fit_along(const Similarity& q, Similarity c, const Slippage& slip, bool rigid, int iterations) const {
     Eigen::Matrix3Xd p, n;
-    std::vector<std::int32_t> match;
-    std::vector<Index> overlap;
-    const auto find_pairs = [&](const Similarity& estimate, int, IcpPairs& pairs) {
-      image(estimate.compose(q), p, n);
-      match.assign(size_t(p.cols()), -1);
+    for (int it = 0; it < iterations; ++it) {
+      image(c.compose(q), p, n);
+      std::vector<std::int32_t> match(size_t(p.cols()), -1);
       tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
         std::int32_t i;
         double d2;
         tree_.knn(p.col(e), 1, &i, &d2);
         if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
       });
-      overlap.clear();
-      for (Index e = 0; e < p.cols(); ++e)
-        if (match[size_t(e)] >= 0) overlap.push_back(e);
-      pairs.moved.resize(3, Index(overlap.size()));
-      pairs.to.resize(3, Index(overlap.size()));
-      pairs.normals.resize(3, Index(overlap.size()));
-      for (size_t j = 0; j < overlap.size(); ++j) {
-        pairs.moved.col(Index(j)) = p.col(overlap[j]);
-        pairs.to.col(Index(j)) = ref_p_.col(match[size_t(overlap[j])]);
-        pairs.normals.col(Index(j)) = ref_n_.col(match[size_t(overlap[j])]);
-      }
-    };
-    return icp(c, find_pairs, {.iterations = iterations, .point_to_point_iterations = 0, .min_pairs = 30});
+      const std::optional<Twist> v = motion_step(p, match, slip, rigid);
+      if (!v) break;
+      c = motion(*v, 1.0, slip.centre, slip.radius).compose(c);
+    }
+    return c;
   }
 
  private:
+  using Twist = Eigen::Matrix<double, 6, 1>;
+
+  // The least-squares point-to-plane step of the matched image points, as a twist about the region's centre, within
+  // step_basis: none with fewer than 30 pairs. In a fixed order: the same on any thread count.
+  std::optional<Twist> motion_step(const Eigen::Matrix3Xd& p, const std::vector<std::int32_t>& match,
+                                   const Slippage& slip, bool rigid) const {
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    Twist b = Twist::Zero();
+    Index pairs = 0;
+    for (Index e = 0; e < p.cols(); ++e) {
+      const std::int32_t i = match[size_t(e)];
+      if (i < 0) continue;
+      const Eigen::Vector3d nq = ref_n_.col(i);
+      Twist g;
+      g << (p.col(e) - slip.centre).cross(nq), slip.radius * nq;
+      A.noalias() += g * g.transpose();
+      b -= g * nq.dot(p.col(e) - ref_p_.col(i));
+      ++pairs;
+    }
+    if (pairs < 30) return std::nullopt;
+    const Eigen::MatrixXd B = step_basis(slip, rigid);
+    if (B.cols() == 0) return Twist::Zero();
+    Eigen::MatrixXd Ab = B.transpose() * A * B;
+    Ab.diagonal().array() += 1e-6 * Ab.trace() / double(B.cols()) + 1e-300;
+    const Eigen::VectorXd y = Ab.ldlt().solve(B.transpose() * b);
+    if (!y.allFinite()) return std::nullopt;
+    return Twist(B * y);
+  }
+
+  // An orthonormal basis of the motions a step may take (columns): every rigid motion, or the region's slippable ones
+  // (eigenvectors of a symmetric matrix: orthonormal already).
+  static Eigen::MatrixXd step_basis(const Slippage& slip, bool rigid) {
+    if (rigid) return Eigen::MatrixXd::Identity(6, 6);
+    Eigen::MatrixXd V(6, Index(slip.motions.size()));
+    for (size_t j = 0; j < slip.motions.size(); ++j) V.col(Index(j)) = slip.motions[j];
+    return V;
+  }
+
   const Eigen::Matrix3Xd &ep_, &en_;
   double limit2_;
   Eigen::Matrix3Xd ref_p_ = Eigen::Matrix3Xd(3, 0), ref_n_ = Eigen::Matrix3Xd(3, 0);
@@ -206,19 +244,47 @@ int best_phase_step(const PlacedImages& placed, const Eigen::Matrix<double, 6, 1
 // Where the template slides on itself, the template cannot tell the phase of the exemplar's detail: searches each
 // slippable motion of region `label` over +-search_distance alpha for the best fit of the image's detail to the
 // placed images. Returns the correction c (applied after q).
-Similarity phase_correction(const PlacedImages& placed, const Similarity& q, const PointSet& target,
-                            const std::vector<int>& labels, int label, double spacing, const SynthesisOptions& o) {
+Similarity phase_correction(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
+                            const SynthesisOptions& o) {
   Similarity c;
-  Eigen::Vector3d centre;
-  double radius = 1;
-  for (const auto& v : slippable_motions(target, labels, label, centre, radius)) {
-    const double rate = std::max(v.head<3>().norm() * 2 * radius, v.tail<3>().norm() * radius);  // per unit s
+  for (const auto& v : slip.motions) {
+    const double rate = std::max(v.head<3>().norm() * 2 * slip.radius, v.tail<3>().norm() * slip.radius);  // per s
     if (!(rate > 0)) continue;
     const double step = 0.5 * spacing / rate;
     const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
-    c = motion(v, best_phase_step(placed, v, step, steps, centre, radius, c, q) * step, centre, radius).compose(c);
+    c = motion(v, best_phase_step(placed, v, step, steps, slip.centre, slip.radius, c, q) * step, slip.centre,
+               slip.radius)
+            .compose(c);
   }
   return c;
+}
+
+// Mean squared point-to-plane misfit of the image under q on its overlap with the placed images (infinite on none).
+double mean_misfit(const PlacedImages& placed, const Similarity& q) {
+  const auto [sum, overlap] = placed.misfit(q);
+  return overlap > 0 ? sum / double(overlap) : std::numeric_limits<double>::infinity();
+}
+
+// The correction c (applied after q) that fits the image's detail to the placed images best (least mean misfit, the
+// first on a tie) of three: the phase along the region's slippable motions; that phase refined by ICP along them only;
+// and that phase refined by free rigid ICP. The labelled transform already fits the template, so only its slippable
+// motions are in doubt; a free fit corrects the exemplar's registration to the template where its relief pulled it off
+// (the gear's teeth, the crate's panels), but on an overlap that fixes little (a table's top) it slides, raising the
+// misfit, and carries the detail off its part (the legs' bulbs, issue 10). ICP can also end above the phase it started
+// from: its pairs (normals within 60 degrees) are not the misfit's.
+Similarity refinement(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
+                      const SynthesisOptions& o) {
+  const Similarity phase = phase_correction(placed, q, slip, spacing, o);
+  const std::array<Similarity, 3> fits{phase, placed.fit_along(q, phase, slip, false, o.refine_iterations),
+                                       placed.fit_along(q, phase, slip, true, o.refine_iterations)};
+  size_t best = 0;
+  double best_misfit = mean_misfit(placed, phase.compose(q));
+  for (size_t i = 1; i < fits.size(); ++i)
+    if (const double m = mean_misfit(placed, fits[i].compose(q)); m < best_misfit) {
+      best_misfit = m;
+      best = i;
+    }
+  return fits[best];
 }
 
 // The unplaced transform whose image overlaps the placed images most, with that overlap.
@@ -264,8 +330,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const Similarity c = placed.fit_onto_placed(
-          inv[best], phase_correction(placed, inv[best], target, labels, int(best), spacing, o), o.refine_iterations);
+      const Similarity c = refinement(placed, inv[best], slippable_motions(target, labels, int(best)), spacing, o);
       inv[best] = c.compose(inv[best]);
       out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
       out.refinement_shift[best] = c.translation.norm();

@@ -4,7 +4,9 @@
 #include <Eigen/Geometry>
 
 #include "nodes/align/align.h"
+#include "nodes/core/kdtree.h"
 #include "nodes/procedural/shapes.h"
+#include "nodes/sample/sample.h"
 #include "nodes/synthesize/synthesize.h"
 #include "nodes/transfer/transfer.h"
 
@@ -58,6 +60,48 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   EXPECT_LE(out.points.size(), 2 * first.size() * 115 / 100);
   EXPECT_GE(out.points.faces().cols(), 2 * first.faces().cols() * 90 / 100);
   out.points.check();
+}
+
+// Completion-mode synthesis of `exemplar` onto `target` (also the source), every target sample labelled 0 with
+// transform q and none covered: the exemplar itself is the anchor each transform is refined against.
+Synthesis refine_one_transform(const PointSet& exemplar, const PointSet& target, const Similarity& q, double alpha) {
+  KdTree tree;
+  tree.build(target.positions());
+  std::vector<std::int32_t> exemplar_source;
+  std::vector<double> d2;
+  nearest_each(tree, exemplar.positions(), exemplar_source, d2);
+  const std::vector<int> labels(size_t(target.size()), 0);
+  const std::vector<std::uint8_t> covered(size_t(target.size()), 0);
+  const std::vector<Similarity> transforms{q};
+  return synthesize({exemplar, Similarity{}, exemplar_source, target, target, labels, 1, transforms, &covered}, alpha,
+                    {});
+}
+
+// A free rigid refinement is kept where it fits the exemplar's images clearly better (it corrects the exemplar's
+// registration): a blob slides on nothing, yet a transform 0.6 alpha off the exemplar comes back onto it.
+TEST(SynthesizeRefinement, BringsATransformOffTheExemplarBackOntoIt) {
+  const PointSet blob = make_blob();
+  const Index n = 6000;
+  const double alpha = std::sqrt(0.64 * surface_area(blob.positions(), blob.faces()) / double(n));
+  const Similarity q{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.6 * alpha, 0, 0), 1};
+  const Synthesis syn =
+      refine_one_transform(random_surface_points(blob, n, 7), random_surface_points(blob, n, 11), q, alpha);
+  EXPECT_NEAR(syn.refinement_shift[0], 0.6 * alpha, 0.15 * alpha);
+  EXPECT_LT(syn.refinement_deg[0], 0.5);
+}
+
+// Along the region's slippable motions the refinement finds the exemplar's phase: a fluted column's exemplar carried by
+// a turn 5 degrees off its flutes (every 22.5 degrees) comes back onto them, by a turn about the column's own axis.
+TEST(SynthesizeRefinement, TurnsAFlutedColumnsImageBackOntoItsFlutesAboutTheAxis) {
+  const PointSet column = make_column(), plain = make_column_template();
+  const Index n = 12000;
+  const double alpha = std::sqrt(0.64 * surface_area(column.positions(), column.faces()) / double(n));
+  const Similarity q{Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                     Eigen::Vector3d::Zero(), 1};
+  const Synthesis syn =
+      refine_one_transform(random_surface_points(column, n, 7), random_surface_points(plain, n, 11), q, alpha);
+  EXPECT_NEAR(syn.refinement_deg[0], 5.0, 1.0);
+  EXPECT_LT(syn.refinement_shift[0], 0.2 * alpha);  // a turn about the axis itself (x = y = 0)
 }
 
 }  // namespace
