@@ -1,7 +1,7 @@
 // Issue 10, end to end: the four-legged table seen from the side, completed with its plain-legs template. The legs'
 // unseen sides need a turn about each leg's own axis (a symmetry of a part of the template, not of the whole), which
-// the symmetry node offers as part candidates (symmetry.parts); the sweep's side view gains most from them (unseen-
-// detail 0.14 -> 0.20, F 0.815 -> 0.842).
+// the symmetry node offers as part candidates (symmetry.parts): measured here, unseen-detail 0.40 -> 0.58 and F 0.929
+// -> 0.949 with them.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -25,8 +25,8 @@ struct TableRun {
   nlohmann::json report;
 };
 
-// The robustness sweep's side view: 2.6 diagonals away along (1, 0, 0.25), 480 x 480 at 30 degrees.
-TableRun complete_table_from_the_side(bool parts) {
+// A robustness sweep's view: 2.6 diagonals away along `view`, 480 x 480 at 30 degrees.
+TableRun complete_table_from(const Eigen::Vector3d& view, bool parts) {
   setup_logging(false, true);
   test::TempDir dir;
   const PointSet model = make_table(), plain = make_table_template();
@@ -37,7 +37,7 @@ TableRun complete_table_from_the_side(bool parts) {
   c.inputs = {{Role::kScan, parse_input("procedural:table")},
               {Role::kTemplate, parse_input("procedural:table_template")}};
   c.output_dir = dir / "out";
-  c.virtual_scan.eye = centre + 2.6 * box.diagonal() * Eigen::Vector3d(1, 0, 0.25).normalized();
+  c.virtual_scan.eye = centre + 2.6 * box.diagonal() * view.normalized();
   c.virtual_scan.target = centre;
   c.virtual_scan.width = c.virtual_scan.height = 480;
   c.virtual_scan.fov_deg = 30;
@@ -53,14 +53,27 @@ TableRun complete_table_from_the_side(bool parts) {
 }
 
 TEST(TableLegs, TheLegsUnseenSidesGainTheTurnedDetailFromTurnsAboutEachLegsOwnAxis) {
-  const TableRun with = complete_table_from_the_side(true);
+  const Eigen::Vector3d side(1, 0, 0.25);
+  const TableRun with = complete_table_from(side, true);
   EXPECT_EQ(with.report["symmetry"]["target_parts"].size(), 4u);  // the four legs
-  const TableRun without = complete_table_from_the_side(false);
+  const TableRun without = complete_table_from(side, false);
   std::printf("table from the side: F %.3f unseen-detail %.3f | without part turns: F %.3f unseen-detail %.3f\n",
               with.result.fscore, with.result.unseen_detail_recall.value_or(0), without.result.fscore,
               without.result.unseen_detail_recall.value_or(0));
   EXPECT_GE(with.result.unseen_detail_recall.value_or(0), without.result.unseen_detail_recall.value_or(0) + 0.02);
   EXPECT_GE(with.result.fscore, without.result.fscore + 0.01);
+}
+
+// The front view: the scan sees the legs' bulbs from the front, and their backs are carried by the table's half turn
+// about z. synthesize's refinement used to slide that turn 2.8 cm sideways on the table top (a free rigid fit on an
+// overlap that fixes little), so the bulbs landed off the legs: unseen-detail 0.30, F 0.794. It now moves only along
+// the region's slippable motions unless a free fit lowers the misfit clearly.
+TEST(TableLegs, TheLegsBacksSeenFromTheFrontKeepTheirBulbs) {
+  const TableRun front = complete_table_from(Eigen::Vector3d(0, -1, 0.2), true);
+  std::printf("table from the front: F %.3f unseen-detail %.3f\n", front.result.fscore,
+              front.result.unseen_detail_recall.value_or(0));
+  EXPECT_GE(front.result.fscore, 0.9);
+  EXPECT_GE(front.result.unseen_detail_recall.value_or(0), 0.6);
 }
 
 }  // namespace
