@@ -11,9 +11,10 @@
 //
 // The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
 // but the exemplar's detail (flutes, beads) repeats only at some angles. So, before carrying the exemplar, each
-// transform is refined by rigid ICP of its image of the exemplar onto the images already placed, where they overlap
-// (the scan itself first in completion mode, else the largest region's image), the transform whose image overlaps
-// the placed ones most going next. A transform whose image overlaps nothing placed is kept as labelled.
+// transform is refined against the images already placed, where they overlap (the scan itself first in completion
+// mode, else the largest region's image), the transform whose image overlaps the placed ones most going next: a phase
+// search along the region's slippable motions, then ICP along those motions only, or free rigid ICP, whichever of the
+// three fits the placed images best. A transform whose image overlaps nothing placed is kept as labelled.
 //
 // In completion mode the exemplar is the scan: its samples are part of the output as they are (origin 0), and target
 // samples it covers (`covered`) get nothing synthesised.
