@@ -1,5 +1,5 @@
-// One ICP loop for every registration that needs one: correspond's rigid registration of the scan, support's
-// refinement of a mode, and synthesize's fit of an exemplar image onto the images already placed. Each caller finds
+// One ICP loop for the registrations that need one: correspond's rigid registration of the scan and support's
+// refinement of a mode (synthesize's refinement steps along a subspace of motions, its own loop). Each caller finds
 // its own pairs (its trimming, normal and distance rules); the loop fits them, point-to-point while far (robust) and
 // point-to-plane after (precise, and it slides along flat faces), and stops on too few pairs or convergence.
 #pragma once

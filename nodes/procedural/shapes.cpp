@@ -381,15 +381,18 @@ AxialSamples axial_samples(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis
   return a;
 }
 
+// The q-quantile (q in [0, 1]) of `xs`, which must not be empty (reordered in place; q = 0.5 is the upper median).
+double quantile(std::vector<double>& xs, double q) {
+  auto at = xs.begin() + std::ptrdiff_t(std::lround(q * double(xs.size() - 1)));
+  std::nth_element(xs.begin(), at, xs.end());
+  return *at;
+}
+
 // Per bin, the median distance (-1 where the bin is empty).
 std::vector<double> median_radii(std::vector<std::vector<double>>& bins) {
   std::vector<double> radius(bins.size(), -1);
   for (size_t b = 0; b < bins.size(); ++b)
-    if (!bins[b].empty()) {
-      auto mid = bins[b].begin() + std::ptrdiff_t(bins[b].size() / 2);
-      std::nth_element(bins[b].begin(), mid, bins[b].end());
-      radius[b] = *mid;
-    }
+    if (!bins[b].empty()) radius[b] = quantile(bins[b], 0.5);
   return radius;
 }
 
@@ -472,13 +475,6 @@ std::pair<int, int> end_bins(int rings, bool top) {
   return top ? std::pair{rings - k + 1, rings} : std::pair{0, k - 1};
 }
 
-// The q-quantile (q in [0, 1]) of `xs`, which must not be empty.
-double quantile(std::vector<double> xs, double q) {
-  auto at = xs.begin() + std::ptrdiff_t(std::lround(q * double(xs.size() - 1)));
-  std::nth_element(xs.begin(), at, xs.end());
-  return *at;
-}
-
 // The distances from the axis of the model's points in the slab at one end.
 std::vector<double> end_radii(const AxialSamples& a, int rings, bool top) {
   const auto [first, last] = end_bins(rings, top);
@@ -539,7 +535,7 @@ double disk_coverage(const std::vector<Eigen::Vector2d>& surface, double radius)
 // out to the wall and pull the median in (to 0.7 of the wall's on a flat floor): their 98th percentile, which is the
 // wall's however finely the floor is tessellated, yet ignores a few points beyond it.
 double wall_radius(std::vector<double> radii) {
-  return quantile(std::move(radii), 0.98);
+  return quantile(radii, 0.98);
 }
 
 // Whether the model closes its body of revolution at one end: its surface there covers the disk out to the wall.

@@ -117,14 +117,10 @@ class PlacedImages {
 
   // Exemplar samples whose image under q lies within the limit of a placed point with a normal within 60 degrees.
   Index overlap(const Similarity& q) const {
-    std::vector<std::uint8_t> near(size_t(ep_.cols()), 0);
-    tbb::parallel_for(Index(0), ep_.cols(), [&](Index e) {
-      std::int32_t i;
-      double d2;
-      tree_.knn(q.apply(ep_.col(e)), 1, &i, &d2);
-      near[size_t(e)] = d2 <= limit2_ && q.apply_normal(en_.col(e)).dot(ref_n_.col(i)) > 0.5;
-    });
-    return Index(std::count(near.begin(), near.end(), 1));
+    Eigen::Matrix3Xd p, n;
+    image(q, p, n);
+    const std::vector<std::int32_t> match = matches(p, n);
+    return Index(std::count_if(match.begin(), match.end(), [](std::int32_t i) { return i >= 0; }));
   }
 
   // Point-to-plane misfit of the image under q (every second sample), over the overlap: (sum of squares, overlap).
@@ -148,17 +144,11 @@ class PlacedImages {
   // with normals within 60 degrees; at least 30), by any rigid motion or only along the region's slippable motions.
   // Returns the refined c.
   Similarity fit_along(const Similarity& q, Similarity c, const Slippage& slip, bool rigid, int iterations) const {
+    if (!rigid && slip.motions.empty()) return c;  // nothing to move along
     Eigen::Matrix3Xd p, n;
     for (int it = 0; it < iterations; ++it) {
       image(c.compose(q), p, n);
-      std::vector<std::int32_t> match(size_t(p.cols()), -1);
-      tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
-        std::int32_t i;
-        double d2;
-        tree_.knn(p.col(e), 1, &i, &d2);
-        if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
-      });
-      const std::optional<Twist> v = motion_step(p, match, slip, rigid);
+      const std::optional<Twist> v = motion_step(p, matches(p, n), slip, rigid);
       if (!v) break;
       c = motion(*v, 1.0, slip.centre, slip.radius).compose(c);
     }
@@ -167,6 +157,19 @@ class PlacedImages {
 
  private:
   using Twist = Eigen::Matrix<double, 6, 1>;
+
+  // Per image point (positions p, normals n), its placed partner: the nearest placed point when within the limit and
+  // with a normal within 60 degrees, else -1.
+  std::vector<std::int32_t> matches(const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& n) const {
+    std::vector<std::int32_t> match(size_t(p.cols()), -1);
+    tbb::parallel_for(Index(0), p.cols(), [&](Index e) {
+      std::int32_t i;
+      double d2;
+      tree_.knn(p.col(e), 1, &i, &d2);
+      if (d2 <= limit2_ && n.col(e).dot(ref_n_.col(i)) > 0.5) match[size_t(e)] = i;
+    });
+    return match;
+  }
 
   // The least-squares point-to-plane step of the matched image points, as a twist about the region's centre, within
   // step_basis: none with fewer than 30 pairs. In a fixed order: the same on any thread count.
@@ -278,8 +281,8 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
   const std::array<Similarity, 3> fits{phase, placed.fit_along(q, phase, slip, false, o.refine_iterations),
                                        placed.fit_along(q, phase, slip, true, o.refine_iterations)};
   size_t best = 0;
-  double best_misfit = mean_misfit(placed, phase.compose(q));
-  for (size_t i = 1; i < fits.size(); ++i)
+  double best_misfit = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < fits.size(); ++i)
     if (const double m = mean_misfit(placed, fits[i].compose(q)); m < best_misfit) {
       best_misfit = m;
       best = i;
