@@ -494,16 +494,14 @@ PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame)
 
 namespace {
 
-// The output points the transfer's message keeps for the surface and the preview: all of them up to this many (and
-// always in mode curves, whose drawing orders every point), else every stride-th point, about this many. The surface
-// thins its input to surface.max_points (10^4) on a voxel grid, which 10^6 even subsample points fill as the whole
-// output does.
-constexpr Index kKeptPoints = Index(1) << 20;
+// The output points the transfer's message keeps for the preview: all of them up to this many (and always in mode
+// curves, whose drawing orders every point), else every stride-th point, about this many: a 360-pixel panel shows no
+// more. (The surface is made from the plan's samples, not from these.)
+constexpr Index kKeptPoints = Index(1) << 18;
 
 Index kept_stride(const RunConfig& config, Index output_points) {
   if (config.mode == RunMode::kCurves) return 1;
-  const Index budget = std::max(kKeptPoints, 16 * config.surface.max_points);
-  return std::max<Index>(1, (output_points + budget - 1) / budget);
+  return std::max<Index>(1, (output_points + kKeptPoints - 1) / kKeptPoints);
 }
 
 }  // namespace
@@ -547,18 +545,19 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
     out->writing->submit([writer] { writer->commit(); });
     out->kept = kept->take();
     node_logger("transfer")
-        ->info(
-            "{} output points, {} faces written to output.ply in runs of {} scan points; {} kept for the surface and "
-            "the preview",
-            out->counts.points, out->counts.faces, kTransferChunk, out->kept.points.size());
+        ->info("{} output points, {} faces written to output.ply in runs of {} scan points; {} kept for the preview",
+               out->counts.points, out->counts.faces, kTransferChunk, out->kept.points.size());
     state.keep(out);
     return TransferredPtr(std::move(out));
   });
 }
 
-SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in) {
+SurfacedPtr surface_stage(RunState& state, const PlannedPtr& in) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
-    auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(in->kept.points, state.config.surface)});
+    const Synthesized& syn = *in->aligned->synthesized;
+    const PointSet completed = plan_at_samples(in->plan, syn.correspondence->exemplar->features.points,
+                                               syn.analogy->votes().target()->features.points);
+    auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(completed, state.config.surface)});
     const SurfaceResult& s = out->surface;
     for (const auto& w : s.warnings) state.warn("surface", w);
     node_logger("surface")->info(

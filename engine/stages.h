@@ -128,7 +128,7 @@ struct Transferred {
   bool intensity = false;                       // output.ply has the scan's intensity
   Index stride = 1;                             // kept: every stride-th output point
   TransferResult kept;  // all the points when there are few (and in mode curves), else a bounded even subsample:
-                        // the surface's and the preview's input
+                        // the preview's input
   std::filesystem::path written;  // output.ply, in the staging folder
   // output.ply's last runs and its commit may still be in progress when the node returns: wait() before using it.
   std::shared_ptr<SerialBackground> writing;
@@ -142,9 +142,9 @@ struct Drawn {
 };
 using DrawnPtr = std::shared_ptr<const Drawn>;
 
-// output.surface: the output points meshed (output_mesh.ply).
+// output.surface: the completed shape meshed (output_mesh.ply), from the plan at the samples' resolution.
 struct Surfaced {
-  TransferredPtr transferred;
+  PlannedPtr planned;
   SurfaceResult surface;
 };
 using SurfacedPtr = std::shared_ptr<const Surfaced>;
@@ -235,7 +235,9 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
 // `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
 PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
 TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in);
-SurfacedPtr surface_stage(RunState& state, const TransferredPtr& in);
+// The surface is made from the plan carried at the samples' resolution (plan_at_samples), so it runs beside the
+// transfer.
+SurfacedPtr surface_stage(RunState& state, const PlannedPtr& in);
 // Mode curves: the output points ordered into polylines along the target's curves.
 DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);
 

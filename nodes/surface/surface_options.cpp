@@ -5,7 +5,7 @@ namespace scanfill {
 OptionTable option_table(SurfaceOptions& s) {
   using namespace checks;
   return {"surface",
-          "output_mesh.ply (output.surface): a Poisson surface of the output points (pcl::Poisson)",
+          "output_mesh.ply (output.surface): a Poisson surface of the completed samples (pcl::Poisson)",
           {{"depth", &s.depth, "Poisson octree depth, at most 2^depth cells a side; [4, 12]",
             range(&s.depth, 4, 12, false, "an integer in [4, 12]")},
            {"samples_per_node", &s.samples_per_node, "least points per octree leaf (more smooths noise); [1, 20]",

@@ -111,7 +111,7 @@ TransferCounts stream_plan_chunks(const TransferPlan& plan, PointChunks& exempla
                                   const ProgressFn& progress = {});
 
 // Every stride-th point of a stream (output index a multiple of `stride`), gathered: a bounded picture of an output too
-// large to hold (the surface's and the preview's input). Points in stream order, with their attributes.
+// large to hold (the preview's input). Points in stream order, with their attributes.
 class EveryKth {
  public:
   explicit EveryKth(Index stride) : stride_(std::max<Index>(stride, 1)) {}
@@ -140,6 +140,12 @@ TransferPlan plan_transfer(const TransferInputs& in);
 // must have colours and intensity where the plan says the exemplar had them (InvariantError otherwise).
 TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
                           const ProgressFn& progress = {});
+
+// The completed shape at the samples' resolution: the exemplar's samples (input frame) and the target's (working
+// frame), both with normals, carried through the plan as apply_plan carries points, positions and normals only (no
+// colours, intensity or triangles). Every sample is its own nearest, so this is the sample-level run in the output
+// frame: what the surface is made from, beside the full-resolution transfer (DESIGN section 10).
+PointSet plan_at_samples(const TransferPlan& plan, const PointSet& exemplar_samples, const PointSet& target_samples);
 
 // apply_plan on `exemplar` (null: none) and, when a patch copies the target and `target` is given (as loaded, working
 // frame), on its copy surface. transfer() is transfer_planned(plan_transfer(in), &in.exemplar, &in.target).

@@ -62,7 +62,7 @@ TEST(SurfaceEndToEnd, PoissonReconsStdoutLinesBecomeACountAndAWarning) {
   test::TempDir dir;
   const auto r = test::run_scanfill("--config " + test::quoted(test::source_dir() / "configs" / "vase.yaml") +
                                     " --set output.dir=" + test::quoted(dir / "out") +
-                                    " --set surface.depth=7 --set surface.max_points=25000 --threads 1");
+                                    " --set surface.depth=8 --set surface.max_points=15000 --threads 1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
   const long diagnostics = report.at("surface").at("poisson_diagnostics").get<long>();
