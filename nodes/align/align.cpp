@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include "nodes/align/align_options.h"
 #include "nodes/align/linear_pair_cost.h"
@@ -38,13 +39,19 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
   std::vector<double> dist2;
   const std::vector<std::int32_t> graph = knn_graph(tree, P, k, &dist2);
 
+  const double inv = 1.0 / spacing;
   const auto fixed = [&](Index i) { return s.origin[size_t(i)] == Origin::kExemplar; };
   const double pair2 = std::pow(o.pair_distance * spacing, 2), cos_limit = 0.5;
   std::vector<Seam> seams;
+  // The keep and pull terms are one cost function each, shared by all their residual blocks; every cost function
+  // lives here, beside (and longer than) the problem: no allocation and no ownership count per residual.
+  const std::unique_ptr<ceres::CostFunction> keep(LinearPairCost::Create(std::sqrt(o.keep_weight) * inv, 0, 1, -1)),
+      pull(PullCost::Create(std::sqrt(o.pull) * inv));
+  std::vector<std::unique_ptr<ceres::CostFunction>> gaps;
   ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
   for (Index i = 0; i < n; ++i) problem.AddParameterBlock(&r.offset[size_t(i)], 1);
-  const double inv = 1.0 / spacing;
   for (Index i = 0; i < n; ++i)
     for (int a = 0; a < k; ++a) {
       const auto j = graph[size_t(i) * size_t(k) + size_t(a)];
@@ -54,23 +61,23 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
       if (ni_nj < cos_limit) continue;
       if (s.patch[size_t(i)] == s.patch[size_t(j)]) {
         if (o.keep_weight > 0)
-          problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.keep_weight) * inv, 0, 1, -1), nullptr,
-                                   &r.offset[size_t(i)], &r.offset[size_t(j)]);
+          problem.AddResidualBlock(keep.get(), nullptr, &r.offset[size_t(i)], &r.offset[size_t(j)]);
         continue;
       }
       if (dist2[size_t(i) * size_t(k) + size_t(a)] > pair2) continue;
       const Eigen::Vector3d m = (N.col(i) + N.col(j)).normalized();
       const Seam seam{std::int32_t(i), j, (P.col(i) - P.col(j)).dot(m), N.col(i).dot(m), -N.col(j).dot(m)};
       seams.push_back(seam);
-      if (o.gap_weight > 0)
-        problem.AddResidualBlock(LinearPairCost::Create(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b), nullptr,
-                                 &r.offset[size_t(i)], &r.offset[size_t(j)]);
+      if (o.gap_weight > 0) {
+        gaps.emplace_back(LinearPairCost::Create(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b));
+        problem.AddResidualBlock(gaps.back().get(), nullptr, &r.offset[size_t(i)], &r.offset[size_t(j)]);
+      }
     }
   for (Index i = 0; i < n; ++i) {
     if (fixed(i)) {
       problem.SetParameterBlockConstant(&r.offset[size_t(i)]);
     } else {
-      problem.AddResidualBlock(PullCost::Create(std::sqrt(o.pull) * inv), nullptr, &r.offset[size_t(i)]);
+      problem.AddResidualBlock(pull.get(), nullptr, &r.offset[size_t(i)]);
     }
   }
   const auto rms_gap = [&] {
@@ -86,6 +93,9 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
     so.max_num_iterations = 5;
     so.num_threads = std::max(1, tbb::this_task_arena::max_concurrency());
     so.logging_type = ceres::SILENT;
+    // Every term is linear in the offsets: an unbounded first trust region takes the Gauss-Newton step, which is the
+    // minimum, and the next iteration sees it converged (the default radius, 1e4, damped it over three).
+    so.initial_trust_region_radius = 1e16;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     r.solver = summarize(summary);

@@ -1,5 +1,7 @@
 #include "nodes/render/render.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -117,16 +119,17 @@ Image preview_image(const std::vector<PreviewPanel>& panels, size_t frame, const
   if (frame >= panels.size()) throw InvariantError("preview_image: no panel to frame");
   const BoundingBox box = bounding_box(panels[frame].points->positions());
   const std::array<Camera, 2> cameras = preview_cameras(box, eye ? eye : facing_eye(*panels[0].points, box));
-  std::vector<Image> images;
-  for (const Camera& camera : cameras)
-    for (const PreviewPanel& panel : panels) {
-      Image image = blank_image(panel_size, panel_size);
-      // A disc as wide as the spacing at the target's distance, so surfaces look closed: 1 to 6 pixels.
-      const double focal = 0.5 * panel_size / std::tan(0.5 * camera.fov_deg * M_PI / 180);
-      const double radius = std::clamp(focal * panel.spacing / (camera.eye - camera.target).norm(), 1.0, 6.0);
-      render_points(*panel.points, panel.colours, camera, radius, image);
-      images.push_back(std::move(image));
-    }
+  // Each image is the whole work of one task: the same pixels on any thread count.
+  std::vector<Image> images(cameras.size() * panels.size());
+  tbb::parallel_for(size_t(0), images.size(), [&](size_t k) {
+    const Camera& camera = cameras[k / panels.size()];
+    const PreviewPanel& panel = panels[k % panels.size()];
+    images[k] = blank_image(panel_size, panel_size);
+    // A disc as wide as the spacing at the target's distance, so surfaces look closed: 1 to 6 pixels.
+    const double focal = 0.5 * panel_size / std::tan(0.5 * camera.fov_deg * M_PI / 180);
+    const double radius = std::clamp(focal * panel.spacing / (camera.eye - camera.target).norm(), 1.0, 6.0);
+    render_points(*panel.points, panel.colours, camera, radius, images[k]);
+  });
   return tile_images(images, int(panels.size()));
 }
 
