@@ -128,8 +128,8 @@ flow::sender<LabelledPtr>& add_analogy(Wiring& w, const Branch& source, const Br
   return add_analogy_chain(w, symmetry);
 }
 
-// synthesized -> align -> plan -> transfer, and plan -> surface beside it when output.surface asks for one; returns
-// transfer, or nullptr for a plan run, which stops at the plan.
+// synthesized -> align -> plan -> transfer, and synthesized -> surface beside them when output.surface asks for one;
+// returns transfer, or nullptr for a plan run, which stops at the plan.
 flow::sender<TransferredPtr>* add_align_transfer(Wiring& w, flow::sender<SynthesizedPtr>& synthesize,
                                                  bool to_scan_frame) {
   auto& align = w.node<SynthesizedPtr, AlignedPtr>([&w](const SynthesizedPtr& in) { return align_stage(w.state, in); });
@@ -142,13 +142,15 @@ flow::sender<TransferredPtr>* add_align_transfer(Wiring& w, flow::sender<Synthes
       w.node<PlannedPtr, TransferredPtr>([&w](const PlannedPtr& in) { return transfer_stage(w.state, in); });
   flow::make_edge(plan, transfer);
   if (!makes_surface(w.state.config)) return &transfer;
-  auto& surface = w.node<PlannedPtr, SurfacedPtr>([&w](const PlannedPtr& in) { return surface_stage(w.state, in); });
-  flow::make_edge(plan, surface);  // beside the transfer: the surface needs only the plan
+  auto& surface = w.node<SynthesizedPtr, SurfacedPtr>(
+      [&w, to_scan_frame](const SynthesizedPtr& in) { return surface_stage(w.state, in, to_scan_frame); });
+  flow::make_edge(synthesize, surface);  // beside align, plan and transfer: the surface needs only the synthesis
   return &transfer;
 }
 
 // correspond(scan, template) -> cover: S = the template samples the scan covers -> symmetry(S, template) -> vote ->
-// modes -> support -> label; synthesize(M, A) -> align -> transfer, back in the scan's frame -> surface.
+// modes -> support -> label; synthesize(M, A) -> align -> transfer, back in the scan's frame, and the surface beside
+// them.
 void build_completion(Wiring& w) {
   const Branch templ = add_input_branch(w, Role::kTemplate);
   const Branch scan = add_input_branch(w, Role::kScan, &templ);

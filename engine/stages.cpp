@@ -496,7 +496,7 @@ namespace {
 
 // The output points the transfer's message keeps for the preview: all of them up to this many (and always in mode
 // curves, whose drawing orders every point), else every stride-th point, about this many: a 360-pixel panel shows no
-// more. (The surface is made from the plan's samples, not from these.)
+// more. (The surface is made from the synthesis' samples, not from these.)
 constexpr Index kKeptPoints = Index(1) << 18;
 
 Index kept_stride(const RunConfig& config, Index output_points) {
@@ -552,11 +552,10 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
   });
 }
 
-SurfacedPtr surface_stage(RunState& state, const PlannedPtr& in) {
+SurfacedPtr surface_stage(RunState& state, const SynthesizedPtr& in, bool to_scan_frame) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
-    const Synthesized& syn = *in->aligned->synthesized;
-    const PointSet completed = plan_at_samples(in->plan, syn.correspondence->exemplar->features.points,
-                                               syn.analogy->votes().target()->features.points);
+    const Similarity to_output = to_scan_frame ? in->correspondence->map.rigid.inverse() : Similarity{};
+    const PointSet completed = region_points(in->synthesis, to_output);
     auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(completed, state.config.surface)});
     const SurfaceResult& s = out->surface;
     for (const auto& w : s.warnings) state.warn("surface", w);

@@ -446,4 +446,18 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   return out;
 }
 
+PointSet region_points(const Synthesis& s, const Similarity& to_output) {
+  std::vector<Index> kept;
+  for (Index i = 0; i < s.points.size(); ++i)
+    if (!s.ring[size_t(i)]) kept.push_back(i);
+  Eigen::Matrix3Xd p(3, Index(kept.size())), n(3, Index(kept.size()));
+  for (Index k = 0; k < Index(kept.size()); ++k) {
+    p.col(k) = to_output.apply(s.points.positions().col(kept[size_t(k)]));
+    n.col(k) = to_output.apply_normal(s.points.normals().col(kept[size_t(k)]));
+  }
+  PointSet out(std::move(p));
+  out.set_normals(std::move(n));
+  return out;
+}
+
 }  // namespace scanfill

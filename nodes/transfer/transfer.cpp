@@ -338,23 +338,6 @@ TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, co
 
 namespace {
 
-PointSet positions_and_normals(const PointSet& p) {
-  PointSet out(p.positions());
-  out.set_normals(p.normals());
-  return out;
-}
-
-}  // namespace
-
-PointSet plan_at_samples(const TransferPlan& plan, const PointSet& exemplar_samples, const PointSet& target_samples) {
-  TransferPlan geometry = plan;
-  geometry.mesh_output = geometry.colours = geometry.intensity = false;
-  const PointSet e = positions_and_normals(exemplar_samples), t = positions_and_normals(target_samples);
-  return apply_plan(geometry, &e, plan_copies_target(plan) ? &t : nullptr).points;
-}
-
-namespace {
-
 // Where a triangle's points have their nearest target sample: all among the copied samples, none, or to be looked up
 // point by point.
 enum class FaceCopies : std::uint8_t { kNone, kAll, kLookUp };

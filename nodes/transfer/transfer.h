@@ -141,12 +141,6 @@ TransferPlan plan_transfer(const TransferInputs& in);
 TransferResult apply_plan(const TransferPlan& plan, const PointSet* exemplar, const PointSet* copies,
                           const ProgressFn& progress = {});
 
-// The completed shape at the samples' resolution: the exemplar's samples (input frame) and the target's (working
-// frame), both with normals, carried through the plan as apply_plan carries points, positions and normals only (no
-// colours, intensity or triangles). Every sample is its own nearest, so this is the sample-level run in the output
-// frame: what the surface is made from, beside the full-resolution transfer (DESIGN section 10).
-PointSet plan_at_samples(const TransferPlan& plan, const PointSet& exemplar_samples, const PointSet& target_samples);
-
 // apply_plan on `exemplar` (null: none) and, when a patch copies the target and `target` is given (as loaded, working
 // frame), on its copy surface. transfer() is transfer_planned(plan_transfer(in), &in.exemplar, &in.target).
 TransferResult transfer_planned(const TransferPlan& plan, const PointSet* exemplar, const PointSet* target,

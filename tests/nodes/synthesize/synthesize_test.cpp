@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 
 #include "nodes/align/align.h"
 #include "nodes/core/kdtree.h"
@@ -60,6 +61,23 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   EXPECT_LE(out.points.size(), 2 * first.size() * 115 / 100);
   EXPECT_GE(out.points.faces().cols(), 2 * first.faces().cols() * 90 / 100);
   out.points.check();
+}
+
+// The surface's points: the synthesis without its extension rings, positions and normals mapped to the output frame.
+TEST(RegionPoints, AreTheSynthesisWithoutItsRingsInTheOutputFrame) {
+  Synthesis s;
+  s.points = PointSet(Eigen::Matrix3Xd::Random(3, 6));
+  s.points.set_normals(Eigen::Matrix3Xd::Random(3, 6).colwise().normalized());
+  s.ring = {0, 1, 0, 0, 1, 0};
+  const Similarity w{Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d(1, 2, 3), 2};
+  const PointSet out = region_points(s, w);
+  ASSERT_EQ(out.size(), 4);
+  const std::array<Index, 4> kept{0, 2, 3, 5};
+  for (Index k = 0; k < 4; ++k) {
+    const Index i = kept[size_t(k)];
+    EXPECT_LT((out.positions().col(k) - w.apply(s.points.positions().col(i))).norm(), 1e-12);
+    EXPECT_LT((out.normals().col(k) - w.apply_normal(s.points.normals().col(i))).norm(), 1e-12);
+  }
 }
 
 // Completion-mode synthesis of `exemplar` onto `target` (also the source), every target sample labelled 0 with

@@ -183,37 +183,6 @@ TEST(Transfer, TheExemplarAndACopyOfTheTargetEachKeepTheirOriginAndLabel) {
   EXPECT_EQ(out.points.faces(), E.faces());
 }
 
-TEST(PlanAtSamples, IsTheSynthesisKeptByTheAlignmentInTheOutputFrame) {
-  // A coloured mesh exemplar (the plan says so) whose samples are a coarser grid, a patch of it moved by kQ, and a copy
-  // of the target: the samples' run is the synthesis' points that align kept, offset along their normals and mapped by
-  // kW, as positions and normals only, in the synthesis' order.
-  PointSet E = grid_mesh(8, 1.0);
-  E.set_colours(Matrix3Xu8::Constant(3, E.size(), 7));
-  const PointSet e_samples = cloud(grid_mesh(4, 1.0).positions());
-  const PointSet target = cloud(grid_mesh(8, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
-  const PointSet t_samples = cloud(grid_mesh(4, 1.0, Eigen::Vector3d(2, 0, 0)).positions());
-  const Similarity c{rot(0.3, Eigen::Vector3d::UnitZ()), Eigen::Vector3d(0, 1, 0), 1.0};
-  const Synthesis s = synthesis_of({{2, Origin::kSynthesized, false, kQ}, {5, Origin::kTarget, true, c}},
-                                   {in_working_frame(e_samples, kX), t_samples});
-  AlignResult al = no_alignment(s);
-  for (size_t j = 0; j < al.offset.size(); ++j) al.offset[j] = 0.001 * double(j % 5);
-  al.keep[3] = al.keep[30] = 0;
-  const TransferInputs in{E, e_samples, target, t_samples, kX, s, al, kW};
-  const PointSet out = plan_at_samples(plan_transfer(in), e_samples, t_samples);
-  ASSERT_EQ(out.size(), s.points.size() - 2);
-  EXPECT_FALSE(out.has_colours());
-  EXPECT_FALSE(out.has_faces());
-  Index k = 0;
-  for (Index i = 0; i < s.points.size(); ++i) {
-    if (!al.keep[size_t(i)]) continue;
-    const Eigen::Vector3d n = kW.apply_normal(s.points.normals().col(i));
-    const Eigen::Vector3d want = kW.apply(s.points.positions().col(i)) + al.offset[size_t(i)] * kW.scale * n;
-    EXPECT_LT((out.positions().col(k) - want).norm(), 1e-12) << "synthesis point " << i;
-    EXPECT_LT((out.normals().col(k) - n).norm(), 1e-12) << "synthesis point " << i;
-    ++k;
-  }
-}
-
 TEST(Transfer, AnAlignmentOfAnotherSynthesisIsRefused) {
   const PointSet E = grid_mesh(4, 1.0), samples = cloud(E.positions());
   const Synthesis s = synthesis_of({{0, Origin::kSynthesized, false, Similarity{}}}, {samples});
