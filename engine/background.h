@@ -1,5 +1,5 @@
 // Work done one piece after another beside the graph's nodes (issue 13): output.ply's runs are encoded and written
-// while the transfer computes the next run and while the surface is meshed.
+// while the transfer computes the next run, and the last one beside whatever nodes still run.
 #pragma once
 
 #include <tbb/task_group.h>

@@ -750,7 +750,7 @@ std::string default_config_yaml() {
     << "                            # label (one colour per transform, as analogy.ply), scan (the scan's or\n"
     << "                            # exemplar's own colours, copied points grey; the scan must have them)\n"
     << "                            # or auto (scan when the scan has colours, else origin)\n"
-    << "  surface: auto             # output_mesh.ply, a surface through output.ply's points: poisson | none |\n"
+    << "  surface: auto             # output_mesh.ply, a surface of the completed shape: poisson | none |\n"
     << "                            # auto (poisson in completion, none otherwise); its options: surface below\n"
     << "threads: 0                  # worker threads; 0 = all cores (the --threads option overrides it)\n";
   for (const Section& section : option_sections(config)) {

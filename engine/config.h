@@ -57,7 +57,7 @@ bool takes_fragments(Role role);
 // Every file or shape of an input: `spec`, then its further fragments.
 std::vector<InputSpec> all_specs(const Input& input);
 
-// output.surface: whether output_mesh.ply, a surface through output.ply's points, is made. auto: poisson in completion
+// output.surface: whether output_mesh.ply, a surface of the completed shape, is made. auto: poisson in completion
 // (a scan's points are a cloud), none in transfer (a mesh exemplar's output keeps its triangles); analogy has no
 // output.ply to mesh.
 enum class SurfaceChoice { kAuto, kNone, kPoisson };

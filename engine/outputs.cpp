@@ -483,9 +483,8 @@ RunOutcome write_exchange_outputs(RunState& state, Staging& staging) {
 std::string surface_line(const nlohmann::json& report) {
   if (!report.contains("surface")) return "";
   const auto& s = report["surface"];
-  return "  output_mesh.ply: a Poisson surface through output.ply's points, " +
-         std::to_string(s["vertices"].get<Index>()) + " vertices, " + std::to_string(s["faces"].get<Index>()) +
-         " triangles\n";
+  return "  output_mesh.ply: a Poisson surface of the completed shape, " + std::to_string(s["vertices"].get<Index>()) +
+         " vertices, " + std::to_string(s["faces"].get<Index>()) + " triangles\n";
 }
 
 std::string summary(const RunConfig& config, const nlohmann::json& report, bool has_output) {
@@ -583,7 +582,7 @@ RunOutcome write_outputs(RunState& state, Staging& staging) {
   if (config.mode == RunMode::kExchange) return write_exchange_outputs(state, staging);
   RunOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
-  if (state.output()) state.output()->writing->wait();  // output.ply's last run, written beside the surface
+  if (state.output()) state.output()->writing->wait();  // output.ply's last run, written beside the graph's last nodes
   nlohmann::json report = {{"mode", mode_name(config.mode)}, {"inputs", write_samples(state, outcome)}};
   if (state.output()) {
     write_output(*state.output(), report, outcome);

@@ -466,6 +466,15 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in) {
   });
 }
 
+namespace {
+
+// The working frame -> the output's: completion writes in the scan's own frame (the inverse of the registration).
+Similarity output_frame(const Correspondence& c, bool to_scan_frame) {
+  return to_scan_frame ? c.map.rigid.inverse() : Similarity{};
+}
+
+}  // namespace
+
 PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame) {
   return run_node(state, "plan", "", [&](const ProgressFn&) {
     const Synthesized& syn = *in->synthesized;
@@ -478,7 +487,7 @@ PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame)
                                 c.map.rigid,
                                 syn.synthesis,
                                 in->alignment,
-                                to_scan_frame ? c.map.rigid.inverse() : Similarity{}};
+                                output_frame(c, to_scan_frame)};
     TransferPlan plan = plan_transfer(inputs);
     if (const auto& streamed = c.exemplar->sampled->loaded->streamed) {
       // load.points hold only its summary's points: the plan counts and bounds the whole file.
@@ -517,7 +526,7 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
     out->written = state.write_dir / "output.ply";
     // Copies come from the target's surface at the exemplar's density; only the copied points are made and held.
     const PointSet copies = copied_points(plan, target);
-    // Runs are encoded and written beside the computing of the next one (and the last beside the surface).
+    // Runs are encoded and written beside the computing of the next one (the last beside whatever still runs).
     out->writing = std::make_shared<SerialBackground>();
     std::shared_ptr<OutputPlyWriter> writer;
     std::optional<EveryKth> kept;
@@ -554,8 +563,13 @@ TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in) {
 
 SurfacedPtr surface_stage(RunState& state, const SynthesizedPtr& in, bool to_scan_frame) {
   return run_node(state, "surface", "", [&](const ProgressFn&) {
-    const Similarity to_output = to_scan_frame ? in->correspondence->map.rigid.inverse() : Similarity{};
-    const PointSet completed = region_points(in->synthesis, to_output);
+    // The synthesis as the output will have it (align's thinning of the overlaps, at zero offsets: align may still be
+    // running), in the output's frame.
+    const Synthesis& syn = in->synthesis;
+    const std::vector<double> no_offsets(size_t(syn.points.size()), 0.0);
+    const PointSet completed = kept_points(
+        syn, thinned_overlaps(syn, no_offsets, in->analogy->votes().spacing(), state.config.align.thin_distance),
+        output_frame(*in->correspondence, to_scan_frame));
     auto out = std::make_shared<Surfaced>(Surfaced{in, poisson_surface(completed, state.config.surface)});
     const SurfaceResult& s = out->surface;
     for (const auto& w : s.warnings) state.warn("surface", w);

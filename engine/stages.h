@@ -142,7 +142,7 @@ struct Drawn {
 };
 using DrawnPtr = std::shared_ptr<const Drawn>;
 
-// output.surface: the completed shape meshed (output_mesh.ply), from the synthesis' region samples.
+// output.surface: the completed shape meshed (output_mesh.ply), from the synthesis' samples.
 struct Surfaced {
   SynthesizedPtr synthesized;
   SurfaceResult surface;
@@ -235,8 +235,8 @@ AlignedPtr align_stage(RunState& state, const SynthesizedPtr& in);
 // `to_scan_frame`: completion writes the output in the scan's frame (the inverse of the rigid registration).
 PlannedPtr plan_stage(RunState& state, const AlignedPtr& in, bool to_scan_frame);
 TransferredPtr transfer_stage(RunState& state, const PlannedPtr& in);
-// The surface is made from the synthesis' region samples (region_points), so it runs beside align, plan and the
-// transfer. `to_scan_frame` as plan_stage's.
+// The surface is made from the synthesis' samples as the output will have them (kept_points), so it runs beside
+// align, plan and the transfer. `to_scan_frame` as plan_stage's.
 SurfacedPtr surface_stage(RunState& state, const SynthesizedPtr& in, bool to_scan_frame);
 // Mode curves: the output points ordered into polylines along the target's curves.
 DrawnPtr draw_curves_stage(RunState& state, const TransferredPtr& in);

@@ -12,6 +12,7 @@
 #include "nodes/align/linear_pair_cost.h"
 #include "nodes/align/pull_cost.h"
 #include "nodes/core/ceres_summary.h"
+#include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 
 namespace scanfill {
@@ -69,7 +70,7 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
       const Seam seam{std::int32_t(i), j, (P.col(i) - P.col(j)).dot(m), N.col(i).dot(m), -N.col(j).dot(m)};
       seams.push_back(seam);
       if (o.gap_weight > 0) {
-        gaps.emplace_back(LinearPairCost::Create(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b));
+        gaps.push_back(std::make_unique<LinearPairCost>(std::sqrt(o.gap_weight) * inv, seam.c, seam.a, seam.b));
         problem.AddResidualBlock(gaps.back().get(), nullptr, &r.offset[size_t(i)], &r.offset[size_t(j)]);
       }
     }
@@ -102,29 +103,39 @@ AlignResult align(const Synthesis& s, double spacing, const AlignOptions& o) {
   }
   r.gap_after = rms_gap();
 
-  // Thin the overlaps: a ring sample next to another patch's region sample goes.
-  if (o.thin_distance > 0) {
-    const double thin2 = std::pow(o.thin_distance * spacing, 2);
-    Eigen::Matrix3Xd moved(3, n);
-    for (Index i = 0; i < n; ++i) moved.col(i) = P.col(i) + r.offset[size_t(i)] * N.col(i);
-    KdTree mt;
-    mt.build(moved);
-    tbb::parallel_for(Index(0), n, [&](Index i) {
-      if (!s.ring[size_t(i)]) return;
-      std::array<std::int32_t, 17> idx;
-      std::array<double, 17> d2;
-      const int got = mt.knn(moved.col(i), 16, idx.data(), d2.data());
-      for (int a = 0; a < got; ++a) {
-        const auto j = idx[size_t(a)];
-        if (d2[size_t(a)] > thin2) break;
-        if (s.patch[size_t(j)] != s.patch[size_t(i)] && !s.ring[size_t(j)] && N.col(i).dot(N.col(j)) >= cos_limit) {
-          r.keep[size_t(i)] = 0;
-          return;
-        }
-      }
-    });
-  }
+  if (o.thin_distance > 0) r.keep = thinned_overlaps(s, r.offset, spacing, o.thin_distance);
   return r;
+}
+
+std::vector<std::uint8_t> thinned_overlaps(const Synthesis& s, const std::vector<double>& offset, double spacing,
+                                           double thin_distance) {
+  const Index n = s.points.size();
+  if (s.ring.size() != size_t(n) || s.patch.size() != size_t(n) || offset.size() != size_t(n))
+    throw InvariantError("thinned_overlaps: the synthesis' rings, patches and the offsets must be one per point");
+  std::vector<std::uint8_t> keep(size_t(n), 1);
+  if (!(thin_distance > 0) || n == 0) return keep;
+  const Eigen::Matrix3Xd& P = s.points.positions();
+  const Eigen::Matrix3Xd& N = s.points.normals();
+  const double thin2 = std::pow(thin_distance * spacing, 2), cos_limit = 0.5;
+  Eigen::Matrix3Xd moved(3, n);
+  for (Index i = 0; i < n; ++i) moved.col(i) = P.col(i) + offset[size_t(i)] * N.col(i);
+  KdTree mt;
+  mt.build(moved);
+  tbb::parallel_for(Index(0), n, [&](Index i) {
+    if (!s.ring[size_t(i)]) return;
+    std::array<std::int32_t, 17> idx;
+    std::array<double, 17> d2;
+    const int got = mt.knn(moved.col(i), 16, idx.data(), d2.data());
+    for (int a = 0; a < got; ++a) {
+      const auto j = idx[size_t(a)];
+      if (d2[size_t(a)] > thin2) break;
+      if (s.patch[size_t(j)] != s.patch[size_t(i)] && !s.ring[size_t(j)] && N.col(i).dot(N.col(j)) >= cos_limit) {
+        keep[size_t(i)] = 0;
+        return;
+      }
+    }
+  });
+  return keep;
 }
 
 }  // namespace scanfill

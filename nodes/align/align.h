@@ -38,6 +38,13 @@ struct AlignResult {
   std::optional<SolverSummary> solver;   // Ceres' summary of the solve; none without seam pairs (nothing to solve)
 };
 
+// Which synthesis points survive the thinning of the overlaps (1) when each point is moved by its offset (model
+// units) along its normal: an extension-ring sample goes when a non-ring sample of another patch lies within
+// `thin_distance` alpha with a normal within 60 degrees (none goes when thin_distance is 0). align's `keep` is this at
+// its offsets; at zero offsets it is the synthesis as the output will have it, before the seams are closed.
+std::vector<std::uint8_t> thinned_overlaps(const Synthesis& s, const std::vector<double>& offset, double spacing,
+                                           double thin_distance);
+
 AlignResult align(const Synthesis& synthesis, double spacing, const AlignOptions& options);
 
 }  // namespace scanfill

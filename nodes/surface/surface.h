@@ -1,9 +1,9 @@
-// surface node: a triangle mesh through the output points (issue 14), by Poisson surface reconstruction (Kazhdan,
+// surface node: a triangle mesh through a completion's points (issue 14; the engine gives it the synthesis' samples), by Poisson surface reconstruction (Kazhdan,
 // Bolitho, Hoppe 2006) as PCL's surface module implements it (pcl::Poisson, BSD; not CGAL's GPL parts).
 //
 // 1. The points are thinned to about `max_points` on a voxel grid (per voxel the point nearest its centre): Poisson's
-//    cost grows with the points and the octree, while its accuracy is set by `depth`; a completion has 10^5 - 10^6
-//    points and the mesh needs far fewer to be as close to the surface as the points are.
+//    cost grows with the points and the octree, while its accuracy is set by `depth`; a completion's output has
+//    10^5 - 10^6 points (its samples 2-5x10^4) and the mesh needs far fewer to be as close to the surface.
 //    The defaults (depth 6, 10^4 points) are the cheapest that keep the vase example's F-score: measured on it, the
 //    surface scores F 0.980 against the vase as its 168 k points do (0.980), in 0.7-1 s; depth 7 with 2.5x10^4
 //    points scores 0.986 in 2.5-3.5 s, more than the example's 10 s budget leaves (README, Performance).
@@ -12,8 +12,8 @@
 //    bytes whatever the run's thread count. It is not reentrant (PoissonRecon keeps static state), so calls are
 //    serialised. PoissonRecon 4 reports iso-surface edges it cannot pair with printf on stdout ("Vertex pair not in
 //    list 2 ..." from GetMCIsoEdges, compiled into libpcl_surface; the branch prints when the pair *is* in its map, the
-//    mirror of branch 1's test, and then leaves that iso-curve unclosed). It happens on some inputs only (the vase at
-//    depth 7 with 2.5x10^4 points: twice), is unconditional inside PCL and cannot be switched off, so stdout (fd 1) is
+//    mirror of branch 1's test, and then leaves that iso-curve unclosed). It happens on some inputs only (the vase example's
+//    samples at depth 8 with 1.5x10^4 points: three times), is unconditional inside PCL and cannot be switched off, so stdout (fd 1) is
 //    captured around the call (StdoutCapture in surface.cpp): PoissonRecon's lines become `diagnostics` and a warning,
 //    anything else written meanwhile is passed on to the real stdout after the call.
 // 3. Trimming: Poisson returns a closed surface and closes every hole (an open top, an unseen underside) with a smooth

@@ -446,10 +446,12 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   return out;
 }
 
-PointSet region_points(const Synthesis& s, const Similarity& to_output) {
+PointSet kept_points(const Synthesis& s, const std::vector<std::uint8_t>& keep, const Similarity& to_output) {
+  if (keep.size() != size_t(s.points.size()) || !s.points.has_normals())
+    throw InvariantError("kept_points: one flag per synthesis point, and points with normals");
   std::vector<Index> kept;
   for (Index i = 0; i < s.points.size(); ++i)
-    if (!s.ring[size_t(i)]) kept.push_back(i);
+    if (keep[size_t(i)]) kept.push_back(i);
   Eigen::Matrix3Xd p(3, Index(kept.size())), n(3, Index(kept.size()));
   for (Index k = 0; k < Index(kept.size()); ++k) {
     p.col(k) = to_output.apply(s.points.positions().col(kept[size_t(k)]));

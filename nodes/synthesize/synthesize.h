@@ -75,9 +75,9 @@ struct SynthesisInputs {
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);
 
-// The completed shape at the samples' resolution, one layer: the synthesis' points except its extension rings (which
-// overlap the neighbouring regions only for the align node's seams), positions and normals mapped by `to_output`.
-// What the surface is made from, beside align and the transfer (the seam offsets are far below its resolution).
-PointSet region_points(const Synthesis& s, const Similarity& to_output);
+// The synthesis' points where `keep` is 1 (one flag per point), positions and normals mapped by `to_output`. With the
+// thinning of the overlaps at zero offsets (align.h's thinned_overlaps) these are the completed shape at the samples'
+// resolution, as the output will have it before the seams are closed.
+PointSet kept_points(const Synthesis& s, const std::vector<std::uint8_t>& keep, const Similarity& to_output);
 
 }  // namespace scanfill

@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <array>
 
 #include "nodes/align/align.h"
+#include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
@@ -63,21 +63,40 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   out.points.check();
 }
 
-// The surface's points: the synthesis without its extension rings, positions and normals mapped to the output frame.
-TEST(RegionPoints, AreTheSynthesisWithoutItsRingsInTheOutputFrame) {
+// The surface's points: the synthesis as align's thinning leaves it at zero offsets, mapped to the output frame. Two
+// patches side by side on a line (x = 0..5 and 6..11, normals +z); patch 0's ring sample at x = 6.2 lies on patch 1's
+// region sample at x = 6 and goes; its ring sample at x = 20 has no other patch near and stays, as does every region
+// sample.
+TEST(KeptPoints, AreTheSynthesisAlignsThinningKeepsInTheOutputFrame) {
   Synthesis s;
-  s.points = PointSet(Eigen::Matrix3Xd::Random(3, 6));
-  s.points.set_normals(Eigen::Matrix3Xd::Random(3, 6).colwise().normalized());
-  s.ring = {0, 1, 0, 0, 1, 0};
+  Eigen::Matrix3Xd p(3, 14);
+  for (int i = 0; i < 6; ++i) p.col(i) = Eigen::Vector3d(i, 0, 0);
+  for (int i = 0; i < 6; ++i) p.col(6 + i) = Eigen::Vector3d(6 + i, 0, 0);
+  p.col(12) = Eigen::Vector3d(6.2, 0, 0);
+  p.col(13) = Eigen::Vector3d(20, 0, 0);
+  s.points = PointSet(p);
+  s.points.set_normals(Eigen::Matrix3Xd::Zero(3, 14).colwise() + Eigen::Vector3d::UnitZ());
+  s.patch = {0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 0, 0};
+  s.ring = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1};
+  const std::vector<double> zero(14, 0.0);
+  const std::vector<std::uint8_t> keep = thinned_overlaps(s, zero, 1.0, 0.75);
+  for (int i = 0; i < 14; ++i) EXPECT_EQ(keep[size_t(i)], i == 12 ? 0 : 1) << "point " << i;
+  // Moved 1 along its normal, the ring sample is no longer on patch 1's sample; with no thinning, every sample stays.
+  std::vector<double> lifted = zero;
+  lifted[12] = 1.0;
+  EXPECT_EQ(thinned_overlaps(s, lifted, 1.0, 0.75)[12], 1);
+  EXPECT_EQ(thinned_overlaps(s, zero, 1.0, 0.0)[12], 1);
+
   const Similarity w{Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d(1, 2, 3), 2};
-  const PointSet out = region_points(s, w);
-  ASSERT_EQ(out.size(), 4);
-  const std::array<Index, 4> kept{0, 2, 3, 5};
-  for (Index k = 0; k < 4; ++k) {
-    const Index i = kept[size_t(k)];
+  const PointSet out = kept_points(s, keep, w);
+  ASSERT_EQ(out.size(), 13);
+  for (Index i = 0, k = 0; i < 14; ++i) {
+    if (!keep[size_t(i)]) continue;
     EXPECT_LT((out.positions().col(k) - w.apply(s.points.positions().col(i))).norm(), 1e-12);
     EXPECT_LT((out.normals().col(k) - w.apply_normal(s.points.normals().col(i))).norm(), 1e-12);
+    ++k;
   }
+  EXPECT_THROW(kept_points(s, std::vector<std::uint8_t>(3, 1), w), InvariantError);
 }
 
 // Completion-mode synthesis of `exemplar` onto `target` (also the source), every target sample labelled 0 with
