@@ -13,11 +13,11 @@
 //    bytes whatever the run's thread count. It is not reentrant (PoissonRecon keeps static state), so calls are
 //    serialised. PoissonRecon 4 reports iso-surface edges it cannot pair with printf on stdout ("Vertex pair not in
 //    list 2 ..." from GetMCIsoEdges, compiled into libpcl_surface; the branch prints when the pair *is* in its map, the
-//    mirror of branch 1's test, and then leaves that iso-curve unclosed). It happens on some inputs only (the vase
-//    example's samples at depth 8 with 1.5x10^4 points: three times), is unconditional inside PCL and cannot be
-//    switched off, so stdout (fd 1) is captured around the call (StdoutCapture in surface.cpp): PoissonRecon's lines
-//    become `diagnostics` and a warning, anything else written meanwhile is passed on to the real stdout after the
-//    call.
+//    mirror of branch 1's test, and then leaves that iso-curve unclosed). It happens on some inputs only (points whose
+//    normals disagree: tens of lines; on clean inputs a few lines or none, and which ones varies from machine to
+//    machine), is unconditional inside PCL and cannot be switched off, so stdout (fd 1) is captured around the call
+//    (StdoutCapture in surface.cpp): PoissonRecon's lines become `diagnostics` and a warning, anything else written
+//    meanwhile is passed on to the real stdout after the call.
 // 3. Trimming: Poisson returns a closed surface and closes every hole (an open top, an unseen underside) with a smooth
 //    blob. A triangle is dropped when one of its corners lies farther than `trim_distance` spacings from the nearest
 //    thinned point; the vertices no triangle uses go too. A point's spacing is the side of the patch of surface it

@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include <map>
+#include <random>
 
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
@@ -121,6 +122,28 @@ TEST(Surface, RefusesPointsWithoutNormalsAndOptionsOutOfRange) {
     EXPECT_NE(std::string(e.what()).find("surface.depth"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("surface.trim_distance"), std::string::npos) << e.what();
   }
+}
+
+// Points whose normals disagree (a sphere's, half of them flipped) make PoissonRecon print the iso-surface edges it
+// cannot pair ("Vertex pair not in list ...", 22 lines measured at the default depth). The node counts them and says
+// so in a warning; none of them reaches stdout.
+TEST(Surface, NormalsThatDisagreeGiveCountedDiagnosticsAndAWarningNotStdout) {
+  PointSet points = sphere_points(20000);
+  Eigen::Matrix3Xd normals = points.normals();
+  std::mt19937 rng(3);
+  for (Index i = 0; i < normals.cols(); ++i)
+    if (rng() % 2) normals.col(i) = -normals.col(i);
+  points.set_normals(std::move(normals));
+  testing::internal::CaptureStdout();
+  const SurfaceResult r = poisson_surface(points, {});
+  const std::string printed = testing::internal::GetCapturedStdout();
+  std::printf("disagreeing normals: %ld diagnostics, %ld triangles\n", long(r.diagnostics),
+              long(r.mesh.faces().cols()));
+  EXPECT_GT(r.diagnostics, 0);
+  EXPECT_EQ(printed.find("Vertex pair"), std::string::npos) << printed;
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find(std::to_string(r.diagnostics) + " iso-surface edges"), std::string::npos)
+      << r.warnings[0];
 }
 
 }  // namespace
