@@ -155,10 +155,15 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
   const Synthesized& s = *t.aligned->synthesized;
   const Synthesis& syn = s.synthesis;
   const AlignResult& al = t.aligned->alignment;
-  report["synthesis"] = {{"samples", syn.points.size()},         {"patches", syn.patches.size()},
-                         {"gap_copies", syn.gap_copies},         {"seam_pairs", al.seam_pairs},
-                         {"seam_gap_before", al.gap_before},     {"seam_gap_after", al.gap_after},
-                         {"refinement_deg", syn.refinement_deg}, {"refinement_shift", syn.refinement_shift}};
+  report["synthesis"] = {{"samples", syn.points.size()},
+                         {"patches", syn.patches.size()},
+                         {"gap_copies", syn.gap_copies},
+                         {"seam_pairs", al.seam_pairs},
+                         {"seam_gap_before", al.gap_before},
+                         {"seam_gap_after", al.gap_after},
+                         {"refinement_deg", syn.refinement_deg},
+                         {"refinement_shift", syn.refinement_shift},
+                         {"second_phase_deg", syn.second_phase_deg}};
   const CorrespondResult& m = s.correspondence->map;
   report["correspondence"] = {
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},

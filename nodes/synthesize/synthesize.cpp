@@ -123,6 +123,18 @@ class PlacedImages {
     return Index(std::count_if(match.begin(), match.end(), [](std::int32_t i) { return i >= 0; }));
   }
 
+  // Per exemplar sample in `subset`, the squared point-to-plane distance of its image under q to the nearest placed
+  // point, or -1 beyond the limit.
+  void residuals(const Similarity& q, const std::vector<std::int32_t>& subset, float* r2) const {
+    tbb::parallel_for(size_t(0), subset.size(), [&](size_t i) {
+      std::int32_t j;
+      double d2;
+      const Eigen::Vector3d x = q.apply(ep_.col(subset[i]));
+      tree_.knn(x, 1, &j, &d2);
+      r2[i] = d2 <= limit2_ ? float(std::pow((x - ref_p_.col(j)).dot(ref_n_.col(j)), 2)) : -1.0f;
+    });
+  }
+
   // Point-to-plane misfit of the image under q (every second sample), over the overlap: (sum of squares, overlap).
   std::pair<double, Index> misfit(const Similarity& q) const {
     double sum = 0;
@@ -290,6 +302,129 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
   return fits[best];
 }
 
+// A region's image in two parts across a rotational slippable motion's axis, each with its own phase about the axis.
+struct PhaseSplit {
+  std::vector<std::uint8_t> part;  // per used exemplar sample: 0 below the cut, 1 above
+  std::array<Similarity, 2> inv;   // per part
+};
+
+// The slippable motion that turns the region about an axis (rotation rather than translation), if it has one.
+const Eigen::Matrix<double, 6, 1>* turn_about_axis(const Slippage& slip) {
+  for (const auto& v : slip.motions)
+    if (v.head<3>().norm() * 2 > v.tail<3>().norm()) return &v;
+  return nullptr;
+}
+
+// Squared point-to-plane misfit and overlap of samples (in a fixed order) at each phase step k of a turn, as prefix
+// sums over the samples: any run of samples [a, b) scores at any step in O(1). Steps are k - zero half-alpha steps.
+class PhaseTable {
+ public:
+  PhaseTable(const PlacedImages& placed, const std::vector<std::int32_t>& samples, const Similarity& q,
+             const Eigen::Matrix<double, 6, 1>& turn, const Slippage& slip, double step, int steps)
+      : n_(samples.size()),
+        K_(size_t(2 * steps + 1)),
+        zero_(size_t(steps)),
+        sum_((n_ + 1) * K_, 0.0),
+        count_((n_ + 1) * K_, 0.0) {
+    std::vector<float> r2(n_);
+    for (size_t k = 0; k < K_; ++k) {
+      placed.residuals(motion(turn, (int(k) - steps) * step, slip.centre, slip.radius).compose(q), samples, r2.data());
+      for (size_t i = 0; i < n_; ++i) {
+        sum_[(i + 1) * K_ + k] = sum_[i * K_ + k] + std::max(0.0f, r2[i]);
+        count_[(i + 1) * K_ + k] = count_[i * K_ + k] + (r2[i] >= 0);
+      }
+    }
+  }
+
+  size_t zero() const { return zero_; }
+  bool inside(size_t k) const { return k > 0 && k + 1 < K_; }  // not at the search range's edge
+  double sum(size_t a, size_t b, size_t k) const { return sum_[b * K_ + k] - sum_[a * K_ + k]; }
+  double count(size_t a, size_t b, size_t k) const { return count_[b * K_ + k] - count_[a * K_ + k]; }
+  double mean(size_t a, size_t b, size_t k) const { return sum(a, b, k) / std::max(1.0, count(a, b, k)); }
+
+  // The step of least mean misfit for samples [a, b), with at least half the overlap of step zero (q's own phase).
+  size_t best_step(size_t a, size_t b) const {
+    size_t best = zero_;
+    for (size_t k = 0; k < K_; ++k) {
+      const double c = count(a, b, k);
+      if (c >= 15 && 2 * c >= count(a, b, zero_) && sum(a, b, k) / c < mean(a, b, best)) best = k;
+    }
+    return best;
+  }
+
+ private:
+  size_t n_, K_, zero_;
+  std::vector<double> sum_, count_;
+};
+
+// The cut of the samples (sorted by height h, ascending) into [0, cut) and [cut, n), with one part at step zero and
+// the other at its own best step, that fits best: (cut, lower step, upper step), or none. Cuts are tried every
+// 2 spacings of height and leave each part at least `least` samples. The part that moves must be the smaller one
+// (q's phase was fitted to the whole image, so it is the larger part's), move to a minimum inside the search range
+// (not to its edge), and fit clearly better itself (at most half its mean misfit at step zero); and the two phases
+// together must beat the one by 10% over the whole.
+std::optional<std::array<size_t, 3>> best_cut(const PhaseTable& table, const std::vector<double>& h, size_t least,
+                                              double spacing) {
+  const size_t n = h.size(), zero = table.zero();
+  double best_score = 0.9 * table.mean(0, n, zero);
+  std::optional<std::array<size_t, 3>> best;
+  double next_height = h[least];
+  for (size_t cut = least; cut + least <= n; ++cut) {
+    if (h[cut] < next_height) continue;
+    next_height = h[cut] + 2 * spacing;
+    const size_t lo = table.best_step(0, cut), hi = table.best_step(cut, n);
+    if ((lo == zero) == (hi == zero)) continue;  // exactly one part moves
+    const bool lower_moves = hi == zero;
+    const size_t a = lower_moves ? 0 : cut, b = lower_moves ? cut : n, moved = lower_moves ? lo : hi;
+    if (2 * (b - a) > n || !table.inside(moved) || table.mean(a, b, moved) > 0.5 * table.mean(a, b, zero)) continue;
+    const double score = (table.sum(0, cut, lo) + table.sum(cut, n, hi)) /
+                         std::max(1.0, table.count(0, cut, lo) + table.count(cut, n, hi));
+    if (score < best_score) {
+      best_score = score;
+      best = {cut, lo, hi};
+    }
+  }
+  return best;
+}
+
+// A region that turns on itself about an axis can carry detail of two periods at two heights (a vase's 12 flutes above
+// its ring of 16 beads): one phase about the axis fits the one that covers more of the image, and the other lands
+// between its own kind. Searches for a second phase, over the phase search's range (+-search_distance alpha in
+// half-alpha steps), for the samples on one side of a cut across the axis (best_cut's rules): none for a region that
+// does not turn on itself, has fewer than 120 used samples, or gains too little from a cut (a single period, as on a
+// fluted column or a gear). Each part keeps at least 5% of the samples (and 60).
+std::optional<PhaseSplit> phase_split(const PlacedImages& placed, const Eigen::Matrix3Xd& ep,
+                                      const std::vector<std::int32_t>& used, const Similarity& q, const Slippage& slip,
+                                      double spacing, const SynthesisOptions& o) {
+  const Eigen::Matrix<double, 6, 1>* turn = turn_about_axis(slip);
+  const size_t n = used.size(), least = std::max<size_t>(60, n / 20);
+  if (turn == nullptr || n < 2 * least) return std::nullopt;
+  const Eigen::Vector3d axis = turn->head<3>().normalized();
+  std::vector<double> height(n);
+  for (size_t i = 0; i < n; ++i) height[i] = axis.dot(q.apply(ep.col(used[i])) - slip.centre);
+  std::vector<std::int32_t> order(n);  // the used samples by height
+  for (size_t i = 0; i < n; ++i) order[i] = std::int32_t(i);
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return height[size_t(a)] < height[size_t(b)]; });
+  std::vector<std::int32_t> sorted(n);
+  std::vector<double> h(n);
+  for (size_t i = 0; i < n; ++i) {
+    sorted[i] = used[size_t(order[i])];
+    h[i] = height[size_t(order[i])];
+  }
+  const double rate = std::max(turn->head<3>().norm() * 2 * slip.radius, turn->tail<3>().norm() * slip.radius);
+  const double step = 0.5 * spacing / rate;
+  const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
+  const std::optional<std::array<size_t, 3>> cut =
+      best_cut(PhaseTable(placed, sorted, q, *turn, slip, step, steps), h, least, spacing);
+  if (!cut) return std::nullopt;
+  PhaseSplit out;
+  out.part.assign(n, 0);
+  for (size_t i = (*cut)[0]; i < n; ++i) out.part[size_t(order[i])] = 1;
+  for (size_t p = 0; p < 2; ++p)
+    out.inv[p] = motion(*turn, (int((*cut)[1 + p]) - steps) * step, slip.centre, slip.radius).compose(q);
+  return out;
+}
+
 // The unplaced transform whose image overlaps the placed images most, with that overlap.
 std::pair<size_t, Index> most_overlapping(const PlacedImages& placed, const std::vector<Similarity>& inv,
                                           const std::vector<Index>& region_size, const std::vector<char>& is_placed) {
@@ -310,11 +445,13 @@ std::pair<size_t, Index> most_overlapping(const PlacedImages& placed, const std:
 // (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
 // in phase along the template's slippable motions and by rigid point-to-plane ICP on the overlap.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
-            bool anchor_exemplar, double spacing, const SynthesisOptions& o, const PointSet& target,
-            const std::vector<int>& labels, std::vector<Similarity>& inv, Synthesis& out) {
+            const std::vector<std::vector<std::int32_t>>& used, bool anchor_exemplar, double spacing,
+            const SynthesisOptions& o, const PointSet& target, const std::vector<int>& labels,
+            std::vector<Similarity>& inv, std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
+  out.second_phase_deg.assign(L, 0.0);
   if (o.refine_iterations <= 0) return;
   std::vector<char> is_placed(L, 0);
   PlacedImages placed(ep, en, std::pow(o.refine_distance * spacing, 2));
@@ -333,12 +470,57 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const Similarity c = refinement(placed, inv[best], slippable_motions(target, labels, int(best)), spacing, o);
+      const Slippage slip = slippable_motions(target, labels, int(best));
+      const Similarity c = refinement(placed, inv[best], slip, spacing, o);
       inv[best] = c.compose(inv[best]);
+      splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
+      if (splits[best]) {
+        const auto& inv2 = splits[best]->inv;
+        out.second_phase_deg[best] = rotation_angle(inv2[1].rotation * inv2[0].rotation.transpose()) * 180 / M_PI;
+      }
       out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
       out.refinement_shift[best] = c.translation.norm();
     }
     placed.place(inv[best]);
+  }
+}
+
+// Per transform label, the exemplar samples it carries into its region (2) or the region's ring (1) on the target:
+// those whose source sample, carried by the labelled transform, lands within `reach` of a target sample of the region
+// or ring. Membership is the analogy's; the refinement moves only where they land.
+void carried_samples(const SynthesisInputs& in, const PointSet& T, const KdTree& target_tree,
+                     const std::vector<std::int32_t>& graph, int k, const std::vector<Similarity>& labelled_inverse,
+                     const std::vector<Index>& region_size, double reach, std::vector<std::vector<std::int32_t>>& used,
+                     std::vector<std::vector<std::uint8_t>>& in_ring) {
+  const auto covered = [&](Index t) { return in.covered && (*in.covered)[size_t(t)] != 0; };
+  const Index E = in.exemplar.size();
+  std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
+  std::vector<std::int8_t> hit(static_cast<size_t>(E));
+  for (int l = 0; l < int(region_size.size()); ++l) {
+    if (region_size[size_t(l)] == 0) continue;
+    for (Index t = 0; t < T.size(); ++t) member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
+    for (Index t = 0; t < T.size(); ++t) {
+      if (member[size_t(t)] != 0 || covered(t)) continue;
+      for (int a = 0; a < k; ++a)
+        if (member[size_t(graph[size_t(t) * size_t(k) + size_t(a)])] == 2) {
+          member[size_t(t)] = 1;
+          break;
+        }
+    }
+    std::fill(hit.begin(), hit.end(), std::int8_t(0));
+    tbb::parallel_for(Index(0), E, [&](Index e) {
+      const auto s = in.exemplar_source[size_t(e)];
+      if (s < 0) return;
+      std::int32_t t;
+      double d2;
+      target_tree.knn(labelled_inverse[size_t(l)].apply(in.source.positions().col(s)), 1, &t, &d2);
+      if (d2 <= reach * reach && member[size_t(t)] != 0) hit[size_t(e)] = std::int8_t(member[size_t(t)]);
+    });
+    for (Index e = 0; e < E; ++e)
+      if (hit[size_t(e)]) {
+        used[size_t(l)].push_back(std::int32_t(e));
+        in_ring[size_t(l)].push_back(hit[size_t(e)] == 1);
+      }
   }
 }
 
@@ -381,36 +563,25 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   // Membership in a region is the analogy's (the labelled transform); the refinement only moves the exemplar's
   // image to fit its detail to the images already placed (a relief can pull it off the template by its height).
   const std::vector<Similarity> labelled_inverse = inverse;
-  refine(ep, en, region_size, in.covered != nullptr, spacing, o, T, in.labels, inverse, out);
-  const double reach2 = std::pow(o.reach * spacing, 2);
-  std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
+  std::vector<std::vector<std::int32_t>> used(in.transforms.size());     // per label: the exemplar samples it carries
+  std::vector<std::vector<std::uint8_t>> in_ring(in.transforms.size());  // per label and used sample: in the ring
+  carried_samples(in, T, target_tree, graph, k, labelled_inverse, region_size, spacing * o.reach, used, in_ring);
+  std::vector<std::optional<PhaseSplit>> splits(in.transforms.size());
+  refine(ep, en, region_size, used, in.covered != nullptr, spacing, o, T, in.labels, inverse, splits, out);
   for (int l = 0; l < int(in.transforms.size()); ++l) {
     if (region_size[size_t(l)] == 0) continue;
-    for (Index t = 0; t < T.size(); ++t) member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
-    for (Index t = 0; t < T.size(); ++t) {
-      if (member[size_t(t)] != 0 || covered(t)) continue;
-      for (int a = 0; a < k; ++a)
-        if (member[size_t(graph[size_t(t) * size_t(k) + size_t(a)])] == 2) {
-          member[size_t(t)] = 1;
-          break;
-        }
-    }
-    const Similarity& inv = inverse[size_t(l)];
-    const int patch = int(out.patches.size());
-    out.patches.push_back({l, Origin::kSynthesized, false, inv});
-    std::vector<std::int8_t> hit(size_t(E.size()), 0);
-    tbb::parallel_for(Index(0), E.size(), [&](Index e) {
-      const auto s = in.exemplar_source[size_t(e)];
-      if (s < 0) return;
-      std::int32_t t;
-      double d2;
-      target_tree.knn(labelled_inverse[size_t(l)].apply(in.source.positions().col(s)), 1, &t, &d2);
-      if (d2 <= reach2 && member[size_t(t)] != 0) hit[size_t(e)] = std::int8_t(member[size_t(t)]);
-    });
-    for (Index e = 0; e < E.size(); ++e)
-      if (hit[size_t(e)])
+    const auto& split = splits[size_t(l)];
+    for (std::uint8_t part = 0; part < (split ? 2 : 1); ++part) {
+      const Similarity& inv = split ? split->inv[part] : inverse[size_t(l)];
+      const int patch = int(out.patches.size());
+      out.patches.push_back({l, Origin::kSynthesized, false, inv});
+      for (size_t i = 0; i < used[size_t(l)].size(); ++i) {
+        if (split && split->part[i] != part) continue;
+        const Index e = used[size_t(l)][i];
         b.add(inv.apply(ep.col(e)), inv.apply_normal(en.col(e)), Origin::kSynthesized, l, patch, int(e),
-              hit[size_t(e)] == 1);
+              in_ring[size_t(l)][i] != 0);
+      }
+    }
   }
 
   // Self-referenced regions, and target samples no patch reached: copies of the target.

@@ -14,7 +14,10 @@
 // transform is refined against the images already placed, where they overlap (the scan itself first in completion
 // mode, else the largest region's image), the transform whose image overlaps the placed ones most going next: a phase
 // search along the region's slippable motions, then ICP along those motions only, or free rigid ICP, whichever of the
-// three fits the placed images best. A transform whose image overlaps nothing placed is kept as labelled.
+// three fits the placed images best. A transform whose image overlaps nothing placed is kept as labelled. A region
+// that turns on itself about an axis may then take a second phase for the part of it on one side of a cut across the
+// axis, where detail of another period lies (a vase's ring of 16 beads below its 12 flutes): that part becomes a patch
+// of its own (phase_split in synthesize.cpp).
 //
 // In completion mode the exemplar is the scan: its samples are part of the output as they are (origin 0), and target
 // samples it covers (`covered`) get nothing synthesised.
@@ -59,6 +62,7 @@ struct Synthesis {
   Index gap_copies = 0;                  // target samples copied because no patch reached them
   std::vector<double> refinement_deg;    // per transform label: rotation of its refinement (0 if unrefined/unused)
   std::vector<double> refinement_shift;  // per transform label: translation of its refinement, model units
+  std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)
 };
 
 struct SynthesisInputs {

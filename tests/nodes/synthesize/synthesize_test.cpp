@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 #include "nodes/align/align.h"
 #include "nodes/core/errors.h"
@@ -139,6 +140,50 @@ TEST(SynthesizeRefinement, TurnsAFlutedColumnsImageBackOntoItsFlutesAboutTheAxis
       refine_one_transform(random_surface_points(column, n, 7), random_surface_points(plain, n, 11), q, alpha);
   EXPECT_NEAR(syn.refinement_deg[0], 5.0, 1.0);
   EXPECT_LT(syn.refinement_shift[0], 0.2 * alpha);  // a turn about the axis itself (x = y = 0)
+}
+
+// A vase's 12 flutes and its ring of 16 beads (below them) repeat with different periods: a turn of 60 degrees about
+// its axis carries flutes onto flutes but beads halfway between beads (60 = 2 x 30 = 2.67 x 22.5). The image of half
+// the vase under that turn, fitted to the half itself, takes one phase for the flutes, which cover most of it, and a
+// second one for the band of beads: the synthesised beads lie on the vase's beads (median distance 0.14 alpha;
+// 1.35 alpha with one phase for the whole image), and the flutes on its flutes.
+TEST(SynthesizeRefinement, GivesTheBeadsBelowAVasesFlutesAPhaseOfTheirOwn) {
+  const PointSet vase = make_vase(), plain = make_vase_template();
+  const Index n = 16000;
+  const double alpha = std::sqrt(0.64 * surface_area(vase.positions(), vase.faces()) / double(n));
+  const PointSet all = random_surface_points(vase, 2 * n, 7);
+  std::vector<Index> half;
+  for (Index i = 0; i < all.size(); ++i)
+    if (all.positions()(1, i) < 0) half.push_back(i);
+  PointSet exemplar(all.positions()(Eigen::all, half));
+  exemplar.set_normals(all.normals()(Eigen::all, half));
+  const Similarity q{Eigen::AngleAxisd(60 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                     Eigen::Vector3d::Zero(), 1};
+  const Synthesis syn = refine_one_transform(exemplar, random_surface_points(plain, n, 11), q, alpha);
+  KdTree truth, body;
+  const PointSet dense = random_surface_points(vase, 400000, 5), dense_plain = random_surface_points(plain, 400000, 5);
+  truth.build(dense.positions());
+  body.build(dense_plain.positions());
+  std::vector<double> beads, flutes;  // synthesised detail (off the plain body) by height: distance to the vase
+  for (Index i = 0; i < syn.points.size(); ++i) {
+    if (syn.origin[size_t(i)] != Origin::kSynthesized) continue;
+    const Eigen::Vector3d p = syn.points.positions().col(i);
+    std::int32_t j;
+    double d2;
+    body.knn(p, 1, &j, &d2);
+    if (d2 < std::pow(0.5 * alpha, 2)) continue;
+    truth.knn(p, 1, &j, &d2);
+    (p.z() < 0.1 ? beads : flutes).push_back(std::sqrt(d2) / alpha);
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  std::printf("beads: %zu points, median distance %.3f alpha; flutes: %zu points, %.3f alpha; %zu patches\n",
+              beads.size(), median(beads), flutes.size(), median(flutes), syn.patches.size());
+  ASSERT_GT(beads.size(), 500u);
+  EXPECT_LT(median(beads), 0.35);
+  EXPECT_LT(median(flutes), 0.35);
 }
 
 }  // namespace
