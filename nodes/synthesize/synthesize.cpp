@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -256,6 +257,16 @@ int best_phase_step(const PlacedImages& placed, const Eigen::Matrix<double, 6, 1
   return best_step;
 }
 
+// The phase search's step along slippable motion v (half an alpha for the point it moves fastest) and the number of
+// steps each way (+-search_distance alpha); none for a motion that moves nothing.
+std::optional<std::pair<double, int>> phase_steps(const Eigen::Matrix<double, 6, 1>& v, const Slippage& slip,
+                                                  double spacing, const SynthesisOptions& o) {
+  const double rate = std::max(v.head<3>().norm() * 2 * slip.radius, v.tail<3>().norm() * slip.radius);  // per s
+  if (!(rate > 0)) return std::nullopt;
+  const double step = 0.5 * spacing / rate;
+  return std::pair{step, int(std::ceil(o.search_distance * spacing / rate / step))};
+}
+
 // Where the template slides on itself, the template cannot tell the phase of the exemplar's detail: searches each
 // slippable motion of region `label` over +-search_distance alpha for the best fit of the image's detail to the
 // placed images. Returns the correction c (applied after q).
@@ -263,10 +274,9 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
                             const SynthesisOptions& o) {
   Similarity c;
   for (const auto& v : slip.motions) {
-    const double rate = std::max(v.head<3>().norm() * 2 * slip.radius, v.tail<3>().norm() * slip.radius);  // per s
-    if (!(rate > 0)) continue;
-    const double step = 0.5 * spacing / rate;
-    const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
+    const auto search = phase_steps(v, slip, spacing, o);
+    if (!search) continue;
+    const auto [step, steps] = *search;
     c = motion(v, best_phase_step(placed, v, step, steps, slip.centre, slip.radius, c, q) * step, slip.centre,
                slip.radius)
             .compose(c);
@@ -319,8 +329,9 @@ const Eigen::Matrix<double, 6, 1>* turn_about_axis(const Slippage& slip) {
 // sums over the samples: any run of samples [a, b) scores at any step in O(1). Steps are k - zero half-alpha steps.
 class PhaseTable {
  public:
-  PhaseTable(const PlacedImages& placed, const std::vector<std::int32_t>& samples, const Similarity& q,
-             const Eigen::Matrix<double, 6, 1>& turn, const Slippage& slip, double step, int steps)
+  // at_step(k): the image's transform at step k of 2 steps + 1.
+  PhaseTable(const PlacedImages& placed, const std::vector<std::int32_t>& samples, int steps,
+             const std::function<Similarity(size_t)>& at_step)
       : n_(samples.size()),
         K_(size_t(2 * steps + 1)),
         zero_(size_t(steps)),
@@ -328,7 +339,7 @@ class PhaseTable {
         count_((n_ + 1) * K_, 0.0) {
     std::vector<float> r2(n_);
     for (size_t k = 0; k < K_; ++k) {
-      placed.residuals(motion(turn, (int(k) - steps) * step, slip.centre, slip.radius).compose(q), samples, r2.data());
+      placed.residuals(at_step(k), samples, r2.data());
       for (size_t i = 0; i < n_; ++i) {
         sum_[(i + 1) * K_ + k] = sum_[i * K_ + k] + std::max(0.0f, r2[i]);
         count_[(i + 1) * K_ + k] = count_[i * K_ + k] + (r2[i] >= 0);
@@ -411,17 +422,17 @@ std::optional<PhaseSplit> phase_split(const PlacedImages& placed, const Eigen::M
     sorted[i] = used[size_t(order[i])];
     h[i] = height[size_t(order[i])];
   }
-  const double rate = std::max(turn->head<3>().norm() * 2 * slip.radius, turn->tail<3>().norm() * slip.radius);
-  const double step = 0.5 * spacing / rate;
-  const int steps = int(std::ceil(o.search_distance * spacing / rate / step));
+  const auto [step, steps] = *phase_steps(*turn, slip, spacing, o);  // a turn moves its points: a step exists
+  const auto at_step = [&, step = step, steps = steps](size_t k) {
+    return motion(*turn, (int(k) - steps) * step, slip.centre, slip.radius).compose(q);
+  };
   const std::optional<std::array<size_t, 3>> cut =
-      best_cut(PhaseTable(placed, sorted, q, *turn, slip, step, steps), h, least, spacing);
+      best_cut(PhaseTable(placed, sorted, steps, at_step), h, least, spacing);
   if (!cut) return std::nullopt;
   PhaseSplit out;
   out.part.assign(n, 0);
   for (size_t i = (*cut)[0]; i < n; ++i) out.part[size_t(order[i])] = 1;
-  for (size_t p = 0; p < 2; ++p)
-    out.inv[p] = motion(*turn, (int((*cut)[1 + p]) - steps) * step, slip.centre, slip.radius).compose(q);
+  for (size_t p = 0; p < 2; ++p) out.inv[p] = at_step((*cut)[1 + p]);
   return out;
 }
 
