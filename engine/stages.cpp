@@ -295,8 +295,8 @@ CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence
     const Featured& templ = *correspondence->source;
     auto c = std::make_shared<Coverage>();
     c->correspondence = correspondence;
-    c->cover = cover_template(templ.features.points, correspondence->map.deformed, templ.sampled->sample.spacing,
-                              state.config.cover);
+    c->cover = cover_template(templ.features.points, correspondence->map, correspondence->exemplar->features.points,
+                              templ.sampled->sample.spacing, state.config.cover);
     node_logger("cover")->info("the scan covers {} of {} template samples", c->cover.samples.size(),
                                templ.features.points.size());
     return CoveragePtr(std::move(c));

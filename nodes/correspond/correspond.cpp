@@ -2,6 +2,7 @@
 
 #include <lemon/network_simplex.h>
 #include <lemon/smart_graph.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -428,13 +429,48 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
   return out;
 }
 
-CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
+namespace {
+
+// Marks the template samples over which the scan stands in relief: a scan sample within `height` along the sample's
+// normal (either way), within `lateral` of the normal's line and with a normal within 60 degrees. A gear's tooth
+// gaps and a leg's bulb lie further from the plain template than the deformation pulls them, yet the scan sees them.
+void cover_relief(const PointSet& templ, const Eigen::Matrix3Xd& scan, const Eigen::Matrix3Xd& scan_normals,
+                  double lateral, double height, std::vector<std::uint8_t>& covered) {
+  KdTree tree;
+  tree.build(scan);
+  const double reach = std::sqrt(lateral * lateral + height * height);
+  tbb::parallel_for(tbb::blocked_range<Index>(0, templ.size()), [&](const tbb::blocked_range<Index>& range) {
+    std::vector<Neighbor> near;
+    for (Index t = range.begin(); t < range.end(); ++t) {
+      if (covered[size_t(t)]) continue;
+      const Eigen::Vector3d p = templ.positions().col(t), n = templ.normals().col(t);
+      tree.radius(p, reach, near);
+      for (const Neighbor& q : near) {
+        const Eigen::Vector3d d = scan.col(q.index) - p;
+        const double along = d.dot(n);
+        if ((d - along * n).squaredNorm() <= lateral * lateral && scan_normals.col(q.index).dot(n) > 0.5) {
+          covered[size_t(t)] = 1;
+          break;
+        }
+      }
+    }
+  });
+}
+
+}  // namespace
+
+CoverResult cover_template(const PointSet& templ, const CorrespondResult& map, const PointSet& exemplar, double spacing,
                            const CoverOptions& options) {
   check_options(options);
   CoverResult r;
-  r.samples = covered_samples(templ, deformed, options.distance * spacing);
+  r.samples = covered_samples(templ, map.deformed, options.distance * spacing);
   r.covered.assign(size_t(templ.size()), 0);
   for (const auto s : r.samples) r.covered[size_t(s)] = 1;
+  if (options.relief > 0 && templ.has_normals() && exemplar.has_normals() && exemplar.size() == map.deformed.cols()) {
+    Eigen::Matrix3Xd normals(3, exemplar.size());
+    for (Index e = 0; e < exemplar.size(); ++e) normals.col(e) = map.rigid.apply_normal(exemplar.normals().col(e));
+    cover_relief(templ, map.deformed, normals, options.distance * spacing, options.relief * spacing, r.covered);
+  }
   r.source = subset(templ, r.samples);
   if (Index(r.samples.size()) < options.min_samples)
     throw InputError("the registered scan covers only " + std::to_string(r.samples.size()) +

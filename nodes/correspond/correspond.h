@@ -110,18 +110,27 @@ std::vector<std::int32_t> covered_samples(const PointSet& source, const Eigen::M
 // Completion's source S (DESIGN section 2): the template samples the registered, deformed scan covers.
 struct CoverOptions {
   double distance = 2.0;   // a template sample within this many alpha of a deformed scan sample is covered; > 0
+  double relief = 6.0;     // a template sample with a scan sample this far (alpha) along its normal, within `distance`
+                           // of the normal's line and facing the same way, is seen in relief; >= 0 (0: none)
   Index min_samples = 30;  // fewer covered samples are too little of the template to learn from; >= 1
 };
 
+// Two notions of "the scan has this part". S, what the analogy learns from, is the template within `distance` of the
+// deformed scan. What synthesis leaves to the scan is wider: also the template the scan stands over in relief, further
+// than the deformation pulled it (a gear's tooth gaps, 3 cm = 4 alpha inside its plain disk): synthesised there, the
+// exemplar's images or template copies would lie over detail the scan already has. Relief is kept out of S: measured
+// on the robustness sweep, adding it to S changed the votes and cost the vase from below and the gear's back-oblique
+// view most of their unseen detail.
 struct CoverResult {
-  std::vector<std::int32_t> samples;  // the covered template samples, ascending
-  std::vector<std::uint8_t> covered;  // per template sample: 1 when covered
-  PointSet source;                    // the covered samples with their features: the analogy's source S
+  std::vector<std::int32_t> samples;  // S's template samples (within `distance`), ascending
+  std::vector<std::uint8_t> covered;  // per template sample: 1 when in S or seen in relief (nothing is synthesised)
+  PointSet source;                    // the samples with their features: the analogy's source S
 };
 
-// `deformed`: the scan samples after registration and deformation (CorrespondResult::deformed); `spacing`: alpha.
+// The scan samples after registration and deformation (map.deformed) cover the template; `spacing`: alpha.
 // Throws InputError when fewer than min_samples are covered, ConfigError naming the key for options out of range.
-CoverResult cover_template(const PointSet& templ, const Eigen::Matrix3Xd& deformed, double spacing,
+// `exemplar`: the scan samples `map` registered (their normals, turned by map.rigid, serve the relief test).
+CoverResult cover_template(const PointSet& templ, const CorrespondResult& map, const PointSet& exemplar, double spacing,
                            const CoverOptions& options);
 
 }  // namespace scanfill

@@ -57,6 +57,9 @@ OptionTable option_table(CoverOptions& cover) {
           {{"cover_distance", &cover.distance,
             "completion: template samples within this many alpha of the registered scan form the source; > 0",
             positive(&cover.distance)},
+           {"cover_relief", &cover.relief,
+            "completion: template samples with a scan sample this far (alpha) along their normal are seen; >= 0",
+            non_negative(&cover.relief)},
            {"cover_min_samples", &cover.min_samples,
             "completion: fewer covered template samples are too little to learn from; >= 1",
             range<Index>(&cover.min_samples, 1, Index(1) << 40, false, "an integer >= 1")}}};

@@ -8,7 +8,8 @@ namespace scanfill {
 
 OptionTable option_table(CorrespondOptions& co);
 
-// The correspond section's keys of completion's coverage (cover_template): cover_distance, cover_min_samples.
+// The correspond section's keys of completion's coverage (cover_template): cover_distance, cover_relief,
+// cover_min_samples.
 OptionTable option_table(CoverOptions& cover);
 
 }  // namespace scanfill

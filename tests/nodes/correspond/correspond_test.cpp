@@ -254,5 +254,43 @@ TEST(PickedPoints, MeshLabFilesAreReadAndPairedByName) {
   EXPECT_THROW(landmarks_by_name({dir / "scan.pp", dir / "none.pp"}, unpaired), InputError);
 }
 
+// A gear scanned from the front over its plain disk template: its tooth gaps lie 3 cm inside the template, about 4
+// alpha, beyond the cover distance. The relief test covers the template where the scan stands over it along the
+// normal, all round the seen half, and nothing of the unseen half.
+TEST(Cover, ReliefTheDeformationLeftStandingStillCoversTheTemplate) {
+  const SampleResult t = sample(make_gear_template(), {.count = 8000});
+  const double alpha = t.spacing;
+  const PointSet templ = estimate_features(t.samples, {}).points;
+  const PointSet gear = featured(make_gear(), 0.5 * alpha, 3);
+  std::vector<std::int32_t> front;  // the gear's side wall facing -y: what a scanner in front sees
+  for (Index i = 0; i < gear.size(); ++i)
+    if (gear.positions().col(i).y() < 0 && gear.normals().col(i).y() < -0.3 &&
+        std::abs(gear.normals().col(i).z()) < 0.5)
+      front.push_back(std::int32_t(i));
+  const PointSet scan = subset(gear, front);
+  CorrespondResult map;  // registered as it is, not deformed
+  map.deformed = scan.positions();
+  const auto share = [&](const CoverResult& c,
+                         double sign) {  // of the template's side wall on the sign * y half, facing it
+    Index n = 0, covered = 0;
+    for (Index i = 0; i < templ.size(); ++i) {
+      const Eigen::Vector3d nn = templ.normals().col(i);
+      if (std::abs(nn.z()) > 0.5 || sign * nn.y() < 0.5 || sign * templ.positions().col(i).y() < 0) continue;
+      ++n;
+      covered += c.covered[size_t(i)];
+    }
+    return double(covered) / double(n);
+  };
+  CoverOptions o;
+  o.relief = 0;
+  const CoverResult plain = cover_template(templ, map, scan, alpha, o);
+  o.relief = 6;
+  const CoverResult relief = cover_template(templ, map, scan, alpha, o);
+  EXPECT_LT(share(plain, -1), 0.8);
+  EXPECT_GT(share(relief, -1), 0.97);
+  EXPECT_EQ(share(relief, 1), 0.0);
+  EXPECT_EQ(relief.samples, plain.samples);  // S stays what lies within the cover distance
+}
+
 }  // namespace
 }  // namespace scanfill
