@@ -496,6 +496,70 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
   }
 }
 
+// Per target sample: whether a carried source sample landed within `distance` of it.
+std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& landed, const PointSet& T,
+                                          double distance) {
+  std::vector<std::uint8_t> reached(size_t(T.size()), 0);
+  if (landed.empty()) return reached;
+  Eigen::Matrix3Xd landing(3, Index(landed.size()));
+  for (size_t i = 0; i < landed.size(); ++i) landing.col(Index(i)) = landed[i];
+  KdTree tree;
+  tree.build(landing);
+  std::vector<std::int32_t> nearest;
+  std::vector<double> d2;
+  nearest_each(tree, T.positions(), nearest, d2);
+  for (Index t = 0; t < T.size(); ++t) reached[size_t(t)] = d2[size_t(t)] <= distance * distance;
+  return reached;
+}
+
+// Holes: target samples (not covered, not self-referenced) with no carried source sample within `reach`, because the
+// exemplar has nothing where their own transform maps them (a tooth flank the scanner did not see). Before they are
+// copied plain from the target, each used transform in turn, the largest region's first, carries the exemplar samples
+// whose source sample it lands within `reach` of a hole, as a patch of its own (issue 10: coverage before copies).
+// Appends to `landed` where their source samples land.
+void fill_holes(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                const std::vector<Similarity>& inverse, const std::vector<Index>& region_size,
+                const KdTree& target_tree, double spacing, const SynthesisOptions& o,
+                std::vector<Eigen::Vector3d>& landed, Builder& b) {
+  const PointSet& T = in.target;
+  const double reach = o.reach * spacing;
+  std::vector<std::uint8_t> hole = reached_targets(landed, T, reach);
+  for (Index t = 0; t < T.size(); ++t)
+    hole[size_t(t)] =
+        !hole[size_t(t)] && in.labels[size_t(t)] != in.self_label && !(in.covered && (*in.covered)[size_t(t)] != 0);
+  std::vector<int> order;
+  for (int l = 0; l < int(region_size.size()); ++l)
+    if (region_size[size_t(l)] > 0) order.push_back(l);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int c) { return region_size[size_t(a)] > region_size[size_t(c)]; });
+  std::vector<std::uint8_t> hit(size_t(in.exemplar.size()));
+  std::vector<Neighbor> near;
+  for (const int l : order) {
+    if (std::find(hole.begin(), hole.end(), 1) == hole.end()) return;
+    const Similarity& inv = inverse[size_t(l)];
+    tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
+      const auto s = in.exemplar_source[size_t(e)];
+      hit[size_t(e)] = 0;
+      if (s < 0) return;
+      std::int32_t t;
+      double d2;
+      target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
+      hit[size_t(e)] = d2 <= reach * reach && hole[size_t(t)];
+    });
+    if (std::find(hit.begin(), hit.end(), 1) == hit.end()) continue;
+    const int patch = int(b.out.patches.size());
+    b.out.patches.push_back({l, Origin::kSynthesized, false, inv});
+    ++b.out.filled_patches;
+    for (Index e = 0; e < in.exemplar.size(); ++e) {
+      if (!hit[size_t(e)]) continue;
+      b.add(inv.apply(ep.col(e)), inv.apply_normal(en.col(e)), Origin::kSynthesized, l, patch, int(e), false);
+      landed.push_back(inv.apply(in.source.positions().col(in.exemplar_source[size_t(e)])));
+      target_tree.radius(landed.back(), reach, near);
+      for (const Neighbor& q : near) hole[size_t(q.index)] = 0;
+    }
+  }
+}
+
 // Per transform label, the exemplar samples it carries into its region (2) or the region's ring (1) on the target:
 // those whose source sample, carried by the labelled transform, lands within `reach` of a target sample of the region
 // or ring. Membership is the analogy's; the refinement moves only where they land.
@@ -579,6 +643,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   carried_samples(in, T, target_tree, graph, k, labelled_inverse, region_size, spacing * o.reach, used, in_ring);
   std::vector<std::optional<PhaseSplit>> splits(in.transforms.size());
   refine(ep, en, region_size, used, in.covered != nullptr, spacing, o, T, in.labels, inverse, splits, out);
+  std::vector<Eigen::Vector3d> landed;  // per synthesised sample: where its source sample lands on the target
   for (int l = 0; l < int(in.transforms.size()); ++l) {
     if (region_size[size_t(l)] == 0) continue;
     const auto& split = splits[size_t(l)];
@@ -591,25 +656,17 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
         const Index e = used[size_t(l)][i];
         b.add(inv.apply(ep.col(e)), inv.apply_normal(en.col(e)), Origin::kSynthesized, l, patch, int(e),
               in_ring[size_t(l)][i] != 0);
+        landed.push_back(inv.apply(in.source.positions().col(in.exemplar_source[size_t(e)])));
       }
     }
   }
 
+  fill_holes(in, ep, en, inverse, region_size, target_tree, spacing, o, landed, b);
+  const std::vector<std::uint8_t> reached = reached_targets(landed, T, o.gap_distance * spacing);
+
   // Self-referenced regions, and target samples no patch reached: copies of the target.
   const int self_patch = int(out.patches.size());
   out.patches.push_back({in.self_label, Origin::kTarget, true, Similarity{}});
-  std::vector<std::uint8_t> reached(size_t(T.size()), 0);
-  if (!b.p.empty()) {
-    Eigen::Matrix3Xd synthesized(3, Index(b.p.size()));
-    for (size_t i = 0; i < b.p.size(); ++i) synthesized.col(Index(i)) = b.p[i];
-    KdTree tree;
-    tree.build(synthesized);
-    const double gap2 = std::pow(o.gap_distance * spacing, 2);
-    std::vector<std::int32_t> nearest;
-    std::vector<double> d2;
-    nearest_each(tree, T.positions(), nearest, d2);
-    for (Index t = 0; t < T.size(); ++t) reached[size_t(t)] = d2[size_t(t)] <= gap2;
-  }
   for (Index t = 0; t < T.size(); ++t) {
     if (covered(t)) continue;
     const bool self = in.labels[size_t(t)] == in.self_label;

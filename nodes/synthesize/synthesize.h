@@ -6,8 +6,12 @@
 // nearest Q_l^-1 p_s lies within `reach` alpha and is labelled l) is carried into the output as Q_l^-1 p_e: the
 // exemplar's own geometry, style included, moved where the structure needs it. Each region is extended by its
 // boundary ring (the target samples next to it on the kNN graph), so neighbouring patches overlap and the align node
-// can close the seams. Target regions labelled self-reference are copied as they are; so are target samples that no
-// patch reached (a hole in the exemplar), with a count in the result.
+// can close the seams. Target regions labelled self-reference are copied as they are. A target sample whose own
+// region's image left a hole (no carried source sample lands within `reach`: the exemplar has nothing where its
+// transform maps it) is first filled by another used transform's image that does reach it (fill_holes in
+// synthesize.cpp); only what no transform reaches within `gap_distance` is copied from the target, with a count in the
+// result. Reaching is judged where the carried samples' source samples land, on the template, not where their relief
+// does: a gear's teeth stand 4 alpha off its plain disk.
 //
 // The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
 // but the exemplar's detail (flutes, beads) repeats only at some angles. So, before carrying the exemplar, each
@@ -60,6 +64,7 @@ struct Synthesis {
   std::vector<std::uint8_t> ring;   // per point: 1 when it lies on its region's extension ring
   std::vector<Patch> patches;
   Index gap_copies = 0;                  // target samples copied because no patch reached them
+  Index filled_patches = 0;              // patches that filled holes of other regions' images (fill_holes)
   std::vector<double> refinement_deg;    // per transform label: rotation of its refinement (0 if unrefined/unused)
   std::vector<double> refinement_shift;  // per transform label: translation of its refinement, model units
   std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)

@@ -64,6 +64,44 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   out.points.check();
 }
 
+// A hole: the exemplar is a square's right half; the left half's region takes the identity, which lands on nothing of
+// the exemplar, and a strip at its edge takes a shift by half the square. That shift's image fills the hole before
+// anything is copied plain from the target (issue 10: coverage before copies).
+TEST(SynthesizeTransfer, AnotherRegionsTransformFillsAHoleBeforeTheTargetIsCopied) {
+  PointSet square = transformed(make_plane(1.0, 40), {Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1});
+  square.set_normals(Eigen::Matrix3Xd::Zero(3, square.size()).colwise() + Eigen::Vector3d::UnitZ());
+  std::vector<std::int32_t> right;
+  for (Index i = 0; i < square.size(); ++i)
+    if (square.positions()(0, i) > 0.5) right.push_back(std::int32_t(i));
+  const PointSet E = subset(square, right), &S = square, &T = square;
+  const double alpha = 1.0 / 40;
+  std::vector<int> labels;
+  for (Index t = 0; t < T.size(); ++t) labels.push_back(T.positions()(0, t) < 0.1 ? 1 : 0);
+  const std::vector<Similarity> transforms{Similarity{},
+                                           Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0, 0), 1}};
+  SynthesisOptions so;
+  so.refine_iterations = 0;
+  const Synthesis syn = synthesize({E, Similarity{}, right, S, T, labels, 2, transforms, nullptr}, alpha, so);
+  EXPECT_EQ(syn.gap_copies, 0);
+  EXPECT_EQ(syn.filled_patches, 1);
+  std::vector<Eigen::Vector3d> shifted;
+  for (Index i = 0; i < syn.points.size(); ++i) {
+    EXPECT_NE(syn.origin[size_t(i)], Origin::kTarget) << "a copy at x = " << syn.points.positions()(0, i);
+    if (syn.label[size_t(i)] == 1) shifted.push_back(syn.points.positions().col(i));
+  }
+  Eigen::Matrix3Xd shifted_points(3, Index(shifted.size()));
+  for (size_t i = 0; i < shifted.size(); ++i) shifted_points.col(Index(i)) = shifted[i];
+  KdTree tree;
+  tree.build(shifted_points);
+  for (Index t = 0; t < T.size(); ++t) {  // the whole left half, the hole included, carries the shifted exemplar
+    if (T.positions()(0, t) > 0.45) continue;
+    std::int32_t j;
+    double d2;
+    tree.knn(T.positions().col(t), 1, &j, &d2);
+    EXPECT_LT(std::sqrt(d2), 1.5 * alpha) << "at x = " << T.positions()(0, t);
+  }
+}
+
 // The surface's points: the synthesis as align's thinning leaves it at zero offsets, mapped to the output frame. Two
 // patches side by side on a line (x = 0..5 and 6..11, normals +z); patch 0's ring sample at x = 6.2 lies on patch 1's
 // region sample at x = 6 and goes; its ring sample at x = 20 has no other patch near and stays, as does every region
