@@ -284,10 +284,9 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
   return c;
 }
 
-// Mean squared point-to-plane misfit of the image under q on its overlap with the placed images (infinite on none).
-double mean_misfit(const PlacedImages& placed, const Similarity& q) {
-  const auto [sum, overlap] = placed.misfit(q);
-  return overlap > 0 ? sum / double(overlap) : std::numeric_limits<double>::infinity();
+// Mean squared point-to-plane misfit over the overlap, from PlacedImages::misfit (infinite on none).
+double mean_misfit(const std::pair<double, Index>& misfit) {
+  return misfit.second > 0 ? misfit.first / double(misfit.second) : std::numeric_limits<double>::infinity();
 }
 
 // The correction c (applied after q) that fits the image's detail to the placed images best (least mean misfit, the
@@ -296,19 +295,24 @@ double mean_misfit(const PlacedImages& placed, const Similarity& q) {
 // motions are in doubt; a free fit corrects the exemplar's registration to the template where its relief pulled it off
 // (the gear's teeth, the crate's panels), but on an overlap that fixes little (a table's top) it slides, raising the
 // misfit, and carries the detail off its part (the legs' bulbs, issue 10). ICP can also end above the phase it started
-// from: its pairs (normals within 60 degrees) are not the misfit's.
+// from: its pairs (normals within 60 degrees) are not the misfit's. A fit that keeps less than 90% of the phase's
+// overlap is not taken: a mean over a shrinking overlap rewards sliding off the placed images (the table seen from
+// behind: a flip slid 9 cm for a 20% lower misfit on 15% less overlap, and the next image fitted onto it).
 Similarity refinement(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
                       const SynthesisOptions& o) {
   const Similarity phase = phase_correction(placed, q, slip, spacing, o);
   const std::array<Similarity, 3> fits{phase, placed.fit_along(q, phase, slip, false, o.refine_iterations),
                                        placed.fit_along(q, phase, slip, true, o.refine_iterations)};
+  const auto at_phase = placed.misfit(phase.compose(q));
   size_t best = 0;
-  double best_misfit = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < fits.size(); ++i)
-    if (const double m = mean_misfit(placed, fits[i].compose(q)); m < best_misfit) {
-      best_misfit = m;
+  double best_misfit = mean_misfit(at_phase);
+  for (size_t i = 1; i < fits.size(); ++i) {
+    const auto m = placed.misfit(fits[i].compose(q));
+    if (mean_misfit(m) < best_misfit && 10 * m.second >= 9 * at_phase.second) {
+      best_misfit = mean_misfit(m);
       best = i;
     }
+  }
   return fits[best];
 }
 
