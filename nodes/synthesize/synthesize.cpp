@@ -516,6 +516,22 @@ std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& la
   return reached;
 }
 
+// Per exemplar sample: whether `inv` carries its source sample within `reach` of a target sample flagged in `on`.
+// Returns whether any is.
+bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
+                const std::vector<std::uint8_t>& on, std::vector<std::uint8_t>& hit) {
+  tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
+    const auto s = in.exemplar_source[size_t(e)];
+    hit[size_t(e)] = 0;
+    if (s < 0) return;
+    std::int32_t t;
+    double d2;
+    target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
+    hit[size_t(e)] = d2 <= reach * reach && on[size_t(t)];
+  });
+  return std::find(hit.begin(), hit.end(), 1) != hit.end();
+}
+
 // Holes: target samples (not covered, not self-referenced) with no carried source sample within `reach`, because the
 // exemplar has nothing where their own transform maps them (a tooth flank the scanner did not see). Before they are
 // copied plain from the target, each used transform in turn, the largest region's first, carries the exemplar samples
@@ -541,16 +557,7 @@ void fill_holes(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eig
   for (const int l : order) {
     if (std::find(hole.begin(), hole.end(), 1) == hole.end()) return;
     const Similarity& inv = inverse[size_t(l)];
-    tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
-      const auto s = in.exemplar_source[size_t(e)];
-      hit[size_t(e)] = 0;
-      if (s < 0) return;
-      std::int32_t t;
-      double d2;
-      target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
-      hit[size_t(e)] = d2 <= reach * reach && hole[size_t(t)];
-    });
-    if (std::find(hit.begin(), hit.end(), 1) == hit.end()) continue;
+    if (!landing_on(in, inv, target_tree, reach, hole, hit)) continue;
     const int patch = int(b.out.patches.size());
     b.out.patches.push_back({l, Origin::kSynthesized, false, inv});
     ++b.out.filled_patches;
