@@ -516,8 +516,8 @@ std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& la
   return reached;
 }
 
-// Per exemplar sample: whether `inv` carries its source sample within `reach` of a target sample flagged in `on`.
-// Returns whether any is.
+// Per exemplar sample: the flag in `on` of the target sample nearest where `inv` carries its source sample, if within
+// `reach` (else 0). Returns whether any is non-zero.
 bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
                 const std::vector<std::uint8_t>& on, std::vector<std::uint8_t>& hit) {
   tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
@@ -527,7 +527,7 @@ bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& 
     std::int32_t t;
     double d2;
     target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
-    hit[size_t(e)] = d2 <= reach * reach && on[size_t(t)];
+    hit[size_t(e)] = d2 <= reach * reach ? on[size_t(t)] : std::uint8_t(0);
   });
   return std::find(hit.begin(), hit.end(), 1) != hit.end();
 }
@@ -581,7 +581,7 @@ void carried_samples(const SynthesisInputs& in, const PointSet& T, const KdTree&
   const auto covered = [&](Index t) { return in.covered && (*in.covered)[size_t(t)] != 0; };
   const Index E = in.exemplar.size();
   std::vector<std::uint8_t> member(size_t(T.size()));  // 2 = region, 1 = ring, 0 = neither
-  std::vector<std::int8_t> hit(static_cast<size_t>(E));
+  std::vector<std::uint8_t> hit(static_cast<size_t>(E));
   for (int l = 0; l < int(region_size.size()); ++l) {
     if (region_size[size_t(l)] == 0) continue;
     for (Index t = 0; t < T.size(); ++t) member[size_t(t)] = (in.labels[size_t(t)] == l && !covered(t)) ? 2 : 0;
@@ -593,15 +593,7 @@ void carried_samples(const SynthesisInputs& in, const PointSet& T, const KdTree&
           break;
         }
     }
-    std::fill(hit.begin(), hit.end(), std::int8_t(0));
-    tbb::parallel_for(Index(0), E, [&](Index e) {
-      const auto s = in.exemplar_source[size_t(e)];
-      if (s < 0) return;
-      std::int32_t t;
-      double d2;
-      target_tree.knn(labelled_inverse[size_t(l)].apply(in.source.positions().col(s)), 1, &t, &d2);
-      if (d2 <= reach * reach && member[size_t(t)] != 0) hit[size_t(e)] = std::int8_t(member[size_t(t)]);
-    });
+    landing_on(in, labelled_inverse[size_t(l)], target_tree, reach, member, hit);
     for (Index e = 0; e < E; ++e)
       if (hit[size_t(e)]) {
         used[size_t(l)].push_back(std::int32_t(e));
