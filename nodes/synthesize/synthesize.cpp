@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <tuple>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -42,38 +43,68 @@ struct Slippage {
   double radius = 1;
 };
 
-// The rigid motions along which the target region slides on itself (Gelfand and Guibas 2004, slippage analysis): the
-// eigenvectors of the point-to-plane Hessian with eigenvalues below 2% of the largest (at most two), as (w, tau)
-// 6-vectors about `centre`, with positions in units of the region's RMS radius so that rotations and translations
-// compare.
-Slippage slippable_motions(const PointSet& target, const std::vector<int>& labels, int label) {
-  Slippage out;
-  Eigen::Vector3d& centre = out.centre;
-  double& radius = out.radius;
-  Index n = 0;
-  for (Index t = 0; t < target.size(); ++t)
-    if (labels[size_t(t)] == label) {
-      centre += target.positions().col(t);
-      ++n;
-    }
-  if (n < 30) return out;
-  centre /= double(n);
-  radius = 0;
-  for (Index t = 0; t < target.size(); ++t)
-    if (labels[size_t(t)] == label) radius += (target.positions().col(t) - centre).squaredNorm();
-  radius = std::sqrt(radius / double(n));
+// The point-to-plane Hessian of the target samples in `part` for twists (w, tau) about `centre`, positions in units of
+// `radius` (Gelfand and Guibas 2004): v^T A v is how far motion v moves them off their own surface.
+Eigen::Matrix<double, 6, 6> slippage_hessian(const PointSet& target, const std::vector<std::uint8_t>& part,
+                                             const Eigen::Vector3d& centre, double radius) {
   Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
   for (Index t = 0; t < target.size(); ++t) {
-    if (labels[size_t(t)] != label) continue;
+    if (!part[size_t(t)]) continue;
     const Eigen::Vector3d q = (target.positions().col(t) - centre) / radius, nn = target.normals().col(t);
     Eigen::Matrix<double, 6, 1> J;
     J << q.cross(nn), nn;
     A += J * J.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
+  return A;
+}
+
+// The centroid and RMS radius of the target samples in `part`, and their number.
+std::tuple<Eigen::Vector3d, double, Index> part_frame(const PointSet& target, const std::vector<std::uint8_t>& part) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Index n = 0;
+  for (Index t = 0; t < target.size(); ++t)
+    if (part[size_t(t)]) {
+      centre += target.positions().col(t);
+      ++n;
+    }
+  if (n == 0) return {centre, 1.0, 0};
+  centre /= double(n);
+  double radius = 0;
+  for (Index t = 0; t < target.size(); ++t)
+    if (part[size_t(t)]) radius += (target.positions().col(t) - centre).squaredNorm();
+  return {centre, std::sqrt(radius / double(n)), n};
+}
+
+// The rigid motions along which the target samples in `part` slide on themselves (slippage analysis): the
+// eigenvectors of their point-to-plane Hessian with eigenvalues below 2% of the largest (at most two), as (w, tau)
+// 6-vectors about `centre`, with positions in units of the part's RMS radius so that rotations and translations
+// compare.
+Slippage slippable_motions(const PointSet& target, const std::vector<std::uint8_t>& part) {
+  Slippage out;
+  Index n;
+  std::tie(out.centre, out.radius, n) = part_frame(target, part);
+  if (n < 30) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(
+      slippage_hessian(target, part, out.centre, out.radius));
   for (int i = 0; i < 2; ++i)  // ascending eigenvalues: at most the two most slippable motions
     if (eig.eigenvalues()(i) < 0.02 * eig.eigenvalues()(5)) out.motions.push_back(eig.eigenvectors().col(i));
   return out;
+}
+
+// `slip` without the motions along which the target samples in `part` do not slide (by the same 2% of the largest
+// eigenvalue of their Hessian): each motion is re-expressed about their centroid, in their radius.
+Slippage sliding_also_on(Slippage slip, const PointSet& target, const std::vector<std::uint8_t>& part) {
+  const auto [centre, radius, n] = part_frame(target, part);
+  if (n < 30) return slip;
+  const Eigen::Matrix<double, 6, 6> A = slippage_hessian(target, part, centre, radius);
+  const double largest =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(A, Eigen::EigenvaluesOnly).eigenvalues()(5);
+  std::erase_if(slip.motions, [&](const Eigen::Matrix<double, 6, 1>& v) {
+    Eigen::Matrix<double, 6, 1> u;  // the same velocity field about `centre`, in units of `radius`
+    u << v.head<3>(), (v.tail<3>() * slip.radius + v.head<3>().cross(centre - slip.centre)) / radius;
+    return u.squaredNorm() > 0 && u.dot(A * u) / u.squaredNorm() >= 0.02 * largest;
+  });
+  return slip;
 }
 
 // The motion exp(s v) about `centre` (v in radius units) as a similarity.
@@ -458,11 +489,11 @@ std::pair<size_t, Index> most_overlapping(const PlacedImages& placed, const std:
 
 // Refines each used transform's inverse (source -> target) against the exemplar images already placed: the anchor
 // (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
-// in phase along the template's slippable motions and by rigid point-to-plane ICP on the overlap.
+// in phase along its slippable motions (`slippage_of(label)`) and by rigid point-to-plane ICP on the overlap.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, bool anchor_exemplar, double spacing,
-            const SynthesisOptions& o, const PointSet& target, const std::vector<int>& labels,
-            std::vector<Similarity>& inv, std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
+            const SynthesisOptions& o, const std::function<Slippage(size_t)>& slippage_of, std::vector<Similarity>& inv,
+            std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -485,7 +516,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const Slippage slip = slippable_motions(target, labels, int(best));
+      const Slippage slip = slippage_of(best);
       const Similarity c = refinement(placed, inv[best], slip, spacing, o);
       inv[best] = c.compose(inv[best]);
       splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
@@ -516,20 +547,47 @@ std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& la
   return reached;
 }
 
-// Per exemplar sample: the flag in `on` of the target sample nearest where `inv` carries its source sample, if within
-// `reach` (else 0). Returns whether any is non-zero.
-bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
-                const std::vector<std::uint8_t>& on, std::vector<std::uint8_t>& hit) {
+// Per exemplar sample: the target sample nearest where `inv` carries its source sample, if within `reach` (else -1).
+std::vector<std::int32_t> landing_targets(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree,
+                                          double reach) {
+  std::vector<std::int32_t> nearest(size_t(in.exemplar.size()), -1);
   tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
     const auto s = in.exemplar_source[size_t(e)];
-    hit[size_t(e)] = 0;
     if (s < 0) return;
     std::int32_t t;
     double d2;
     target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
-    hit[size_t(e)] = d2 <= reach * reach ? on[size_t(t)] : std::uint8_t(0);
+    if (d2 <= reach * reach) nearest[size_t(e)] = t;
   });
+  return nearest;
+}
+
+// Per exemplar sample: the flag in `on` of the target sample nearest where `inv` carries its source sample, if within
+// `reach` (else 0). Returns whether any is 1.
+bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
+                const std::vector<std::uint8_t>& on, std::vector<std::uint8_t>& hit) {
+  const std::vector<std::int32_t> nearest = landing_targets(in, inv, target_tree, reach);
+  for (size_t e = 0; e < nearest.size(); ++e) hit[e] = nearest[e] >= 0 ? on[size_t(nearest[e])] : std::uint8_t(0);
   return std::find(hit.begin(), hit.end(), 1) != hit.end();
+}
+
+// The slippable motions of region `label` that its labelled transform's image may take: those along which the
+// template also slides where the image lands (the nearest target sample within `reach` of where it carries each
+// exemplar sample's source). A box's flip labels a strip of two walls, which slide up and down, but it carries the lid
+// onto the floor, which does not; the crate seen from above: the phase search slid that flip 2.7 cm down its walls,
+// taking the floor with it, and the floor's own flip was fitted onto that image (F 0.73). An image that lands mostly
+// off the template (a leg's own turn carries the table top off the table) moves only its region: its motions stay.
+Slippage image_slippage(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
+                        int label) {
+  std::vector<std::uint8_t> region(in.labels.size()), footprint(in.labels.size());
+  for (size_t t = 0; t < region.size(); ++t) region[t] = footprint[t] = in.labels[t] == label;
+  const Slippage slip = slippable_motions(in.target, region);
+  const std::vector<std::int32_t> nearest = landing_targets(in, inv, target_tree, reach);
+  const auto landed = std::count_if(nearest.begin(), nearest.end(), [](std::int32_t t) { return t >= 0; });
+  if (slip.motions.empty() || 2 * landed < std::ssize(nearest)) return slip;
+  for (const std::int32_t t : nearest)
+    if (t >= 0) footprint[size_t(t)] = 1;
+  return sliding_also_on(slip, in.target, footprint);
 }
 
 // Holes: target samples (not covered, not self-referenced) with no carried source sample within `reach`, because the
@@ -645,7 +703,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   std::vector<std::vector<std::uint8_t>> in_ring(in.transforms.size());  // per label and used sample: in the ring
   carried_samples(in, T, target_tree, graph, k, labelled_inverse, region_size, spacing * o.reach, used, in_ring);
   std::vector<std::optional<PhaseSplit>> splits(in.transforms.size());
-  refine(ep, en, region_size, used, in.covered != nullptr, spacing, o, T, in.labels, inverse, splits, out);
+  const auto slippage_of = [&](size_t l) {
+    return image_slippage(in, labelled_inverse[l], target_tree, spacing * o.reach, int(l));
+  };
+  refine(ep, en, region_size, used, in.covered != nullptr, spacing, o, slippage_of, inverse, splits, out);
   std::vector<Eigen::Vector3d> landed;  // per synthesised sample: where its source sample lands on the target
   for (int l = 0; l < int(in.transforms.size()); ++l) {
     if (region_size[size_t(l)] == 0) continue;
