@@ -563,12 +563,12 @@ std::vector<std::int32_t> landing_targets(const SynthesisInputs& in, const Simil
 }
 
 // Per exemplar sample: the flag in `on` of the target sample nearest where `inv` carries its source sample, if within
-// `reach` (else 0). Returns whether any is 1.
+// `reach` (else 0). Returns whether any is non-zero.
 bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
                 const std::vector<std::uint8_t>& on, std::vector<std::uint8_t>& hit) {
   const std::vector<std::int32_t> nearest = landing_targets(in, inv, target_tree, reach);
   for (size_t e = 0; e < nearest.size(); ++e) hit[e] = nearest[e] >= 0 ? on[size_t(nearest[e])] : std::uint8_t(0);
-  return std::find(hit.begin(), hit.end(), 1) != hit.end();
+  return std::any_of(hit.begin(), hit.end(), [](std::uint8_t h) { return h != 0; });
 }
 
 // The slippable motions of region `label` that its labelled transform's image may take: those along which the
@@ -579,12 +579,13 @@ bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& 
 // off the template (a leg's own turn carries the table top off the table) moves only its region: its motions stay.
 Slippage image_slippage(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
                         int label) {
-  std::vector<std::uint8_t> region(in.labels.size()), footprint(in.labels.size());
-  for (size_t t = 0; t < region.size(); ++t) region[t] = footprint[t] = in.labels[t] == label;
-  const Slippage slip = slippable_motions(in.target, region);
+  std::vector<std::uint8_t> footprint(in.labels.size());
+  for (size_t t = 0; t < footprint.size(); ++t) footprint[t] = in.labels[t] == label;
+  const Slippage slip = slippable_motions(in.target, footprint);  // the region's
+  if (slip.motions.empty()) return slip;
   const std::vector<std::int32_t> nearest = landing_targets(in, inv, target_tree, reach);
   const auto landed = std::count_if(nearest.begin(), nearest.end(), [](std::int32_t t) { return t >= 0; });
-  if (slip.motions.empty() || 2 * landed < std::ssize(nearest)) return slip;
+  if (2 * landed < std::ssize(nearest)) return slip;
   for (const std::int32_t t : nearest)
     if (t >= 0) footprint[size_t(t)] = 1;
   return sliding_also_on(slip, in.target, footprint);
