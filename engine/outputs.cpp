@@ -164,6 +164,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"seam_gap_after", al.gap_after},
                          {"refinement_deg", syn.refinement_deg},
                          {"refinement_shift", syn.refinement_shift},
+                         {"registration_offset", json_vec(syn.registration_offset)},
                          {"second_phase_deg", syn.second_phase_deg}};
   const CorrespondResult& m = s.correspondence->map;
   report["correspondence"] = {

@@ -67,6 +67,8 @@ struct Synthesis {
   Index filled_patches = 0;              // patches that filled holes of other regions' images (fill_holes)
   std::vector<double> refinement_deg;    // per transform label: rotation of its refinement (0 if unrefined/unused)
   std::vector<double> refinement_shift;  // per transform label: translation of its refinement, model units
+  // The exemplar's registration offset from the template, shared by every label's image (completion only; else 0).
+  Eigen::Vector3d registration_offset = Eigen::Vector3d::Zero();
   std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)
 };
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <functional>
 
 #include "nodes/align/align.h"
 #include "nodes/core/errors.h"
@@ -138,19 +139,27 @@ TEST(KeptPoints, AreTheSynthesisAlignsThinningKeepsInTheOutputFrame) {
   EXPECT_THROW(kept_points(s, std::vector<std::uint8_t>(3, 1), w), InvariantError);
 }
 
-// Completion-mode synthesis of `exemplar` onto `target` (also the source), every target sample labelled 0 with
-// transform q and none covered: the exemplar itself is the anchor each transform is refined against.
-Synthesis refine_one_transform(const PointSet& exemplar, const PointSet& target, const Similarity& q, double alpha) {
+// Completion-mode synthesis of `exemplar` onto `target` (also the source), each target sample labelled by `label_of`
+// with one of `transforms`, none covered: the exemplar itself is the anchor each transform is refined against.
+Synthesis refine_transforms(const PointSet& exemplar, const PointSet& target, const std::vector<Similarity>& transforms,
+                            const std::function<int(const Eigen::Vector3d&)>& label_of, double alpha) {
   KdTree tree;
   tree.build(target.positions());
   std::vector<std::int32_t> exemplar_source;
   std::vector<double> d2;
   nearest_each(tree, exemplar.positions(), exemplar_source, d2);
-  const std::vector<int> labels(size_t(target.size()), 0);
+  std::vector<int> labels;
+  for (Index t = 0; t < target.size(); ++t) labels.push_back(label_of(target.positions().col(t)));
   const std::vector<std::uint8_t> covered(size_t(target.size()), 0);
-  const std::vector<Similarity> transforms{q};
-  return synthesize({exemplar, Similarity{}, exemplar_source, target, target, labels, 1, transforms, &covered}, alpha,
-                    {});
+  return synthesize(
+      {exemplar, Similarity{}, exemplar_source, target, target, labels, int(transforms.size()), transforms, &covered},
+      alpha, {});
+}
+
+// As refine_transforms, with every target sample labelled 0 with transform q.
+Synthesis refine_one_transform(const PointSet& exemplar, const PointSet& target, const Similarity& q, double alpha) {
+  return refine_transforms(
+      exemplar, target, {q}, [](const Eigen::Vector3d&) { return 0; }, alpha);
 }
 
 // A free rigid refinement is kept where it fits the exemplar's images clearly better (it corrects the exemplar's
@@ -222,6 +231,49 @@ TEST(SynthesizeRefinement, GivesTheBeadsBelowAVasesFlutesAPhaseOfTheirOwn) {
   ASSERT_GT(beads.size(), 500u);
   EXPECT_LT(median(beads), 0.35);
   EXPECT_LT(median(flutes), 0.35);
+}
+
+// A one-sided scan of a gear registers towards its teeth, off the plain annulus's axis: the template's turns hold about
+// the template's axis, and the exemplar's image must turn about its own. Half a gear, 3 cm off the annulus (the
+// registration error), carried by a quarter turn (x > 0) and a half turn (x < 0) about the annulus's axis: the
+// refinement finds the one offset both share, and the images' teeth land on the shifted gear's teeth.
+TEST(SynthesizeRefinement, TurnsAGearsImageAboutTheExemplarsOwnAxisNotTheTemplates) {
+  const PointSet gear = make_gear(), plain = make_gear_template();
+  const Index n = 12000;
+  const double alpha = std::sqrt(0.64 * surface_area(gear.positions(), gear.faces()) / double(n));
+  const Eigen::Vector3d offset(0.03, -0.01, 0);
+  const PointSet all = random_surface_points(gear, 2 * n, 7);
+  std::vector<Index> half;
+  for (Index i = 0; i < all.size(); ++i)
+    if (all.positions()(1, i) < 0) half.push_back(i);
+  PointSet exemplar(all.positions()(Eigen::all, half).colwise() + offset);
+  exemplar.set_normals(all.normals()(Eigen::all, half));
+  const auto turn = [](double deg) {
+    return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                      Eigen::Vector3d::Zero(), 1};
+  };
+  const Synthesis syn = refine_transforms(
+      exemplar, random_surface_points(plain, n, 11), {turn(90), turn(180)},
+      [](const Eigen::Vector3d& p) { return p.x() < 0 ? 1 : 0; }, alpha);
+  std::printf("registration offset (%.4f, %.4f, %.4f)\n", syn.registration_offset.x(), syn.registration_offset.y(),
+              syn.registration_offset.z());
+  EXPECT_LT((syn.registration_offset.head<2>() - offset.head<2>()).norm(), 0.2 * alpha);
+  EXPECT_LT(std::abs(syn.registration_offset.z()), 1e-9);  // a turn about z sees nothing of d along z
+  KdTree truth;
+  const PointSet dense = random_surface_points(gear, 400000, 5);
+  const Eigen::Matrix3Xd shifted = dense.positions().colwise() + offset;
+  truth.build(shifted);
+  std::vector<double> distance;  // synthesised points: distance to the shifted gear, in alpha
+  for (Index i = 0; i < syn.points.size(); ++i) {
+    if (syn.origin[size_t(i)] != Origin::kSynthesized) continue;
+    std::int32_t j;
+    double d2;
+    truth.knn(syn.points.positions().col(i), 1, &j, &d2);
+    distance.push_back(std::sqrt(d2) / alpha);
+  }
+  ASSERT_GT(distance.size(), 1000u);
+  std::nth_element(distance.begin(), distance.begin() + long(distance.size() * 9 / 10), distance.end());
+  EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
 }
 
 }  // namespace
