@@ -582,8 +582,8 @@ struct OffsetFit {
 // off instead (the gear), or follow faces the scanner did not see (the crate from below): one d seen by every label
 // is fixed better. Fitted jointly with each label's phase along its slippable motions (which d must not absorb), by
 // point-to-plane ICP onto the exemplar of the images of the turned labels that land mostly on the template (a leg's
-// own turn carries the table's top off it); with fewer than two such labels, none. With `fit_offset` false, d stays
-// zero and only the phases are fitted: the misfit to compare with.
+// own turn carries the table's top off it); with fewer than two such labels, none. d moves only within `relief`'s span
+// (relief_directions): with an empty basis it stays zero and only the phases are fitted, the misfit to compare with.
 OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
                               const std::vector<std::uint8_t>& on_template, const std::vector<Slippage>& slips,
                               int iterations, const Eigen::Matrix3Xd& relief) {
@@ -596,8 +596,8 @@ OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Si
       first.push_back(cols);
       cols += Index(slips[l].motions.size());
     }
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
   if (labels.size() < 2) return {};  // one label's own free fit finds as much
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
   std::vector<Similarity> phase(inv.size());
   OffsetSystem sys;
   for (int it = 0; it <= iterations; ++it) {
