@@ -327,6 +327,12 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
   return c;
 }
 
+// Truncated least squares of a misfit (sum of squares over `pairs`), over `most` pairs: each pair it lacks costs the
+// pairing limit squared.
+double truncated_misfit(double sum, Index pairs, Index most, double limit2) {
+  return sum + double(most - pairs) * limit2;
+}
+
 // The correction c (applied after q) that fits the image's detail to the placed images best of three: the phase along
 // the region's slippable motions; that phase refined by ICP along them only; and that phase refined by free rigid ICP.
 // The labelled transform already fits the template, so only its slippable motions are in doubt; a free fit corrects
@@ -353,7 +359,7 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
   }
   const auto score = [&](size_t i) {
     const auto [sum, overlap] = misfit[i];
-    if (truncated) return sum + double(most - overlap) * placed.limit2();
+    if (truncated) return truncated_misfit(sum, overlap, most, placed.limit2());
     const bool kept = overlap > 0 && 10 * overlap >= 9 * misfit[0].second;
     return kept ? sum / double(overlap) : std::numeric_limits<double>::infinity();
   };
@@ -646,11 +652,6 @@ Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matr
   return out;
 }
 
-// Truncated least squares of an offset fit, over `most` pairs: each pair it lacks costs the pairing limit squared.
-double truncated_misfit(const OffsetFit& fit, Index most, double limit2) {
-  return fit.r2 + double(most - fit.pairs) * limit2;
-}
-
 // The registration offset the refinement applies: registration_offset's, where it is at least 1.25 alpha and explains
 // at least a third of the labels' misfit (truncated, against the same fit with d held at zero). A smaller offset each
 // label's own free fit corrects as well (the crate seen from the front, 0.7 alpha). Where the exemplar's detail does
@@ -669,7 +670,8 @@ Eigen::Vector3d applied_offset(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3X
   const OffsetFit without =
       registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, Eigen::Matrix3Xd(3, 0));
   const Index most = std::max(with.pairs, without.pairs);
-  const bool explains = 3 * truncated_misfit(with, most, limit2) <= 2 * truncated_misfit(without, most, limit2);
+  const bool explains = 3 * truncated_misfit(with.r2, with.pairs, most, limit2) <=
+                        2 * truncated_misfit(without.r2, without.pairs, most, limit2);
   return explains ? with.d : Eigen::Vector3d::Zero();
 }
 
