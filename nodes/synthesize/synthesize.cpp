@@ -527,10 +527,11 @@ struct OffsetSystem {
   double r2 = 0;  // the pairs' squared residuals
 };
 
-// Adds the point-to-plane pairs of the image under q (the label's transform, phase and offset) onto the exemplar:
-// moving d by delta moves the image by (I - s R) delta, and the label's motion k (column first + k) by its field.
-void add_offset_pairs(const PlacedImages& exemplar, const Similarity& q, const Slippage& slip, Index first,
-                      OffsetSystem& sys) {
+// Adds the point-to-plane pairs of the image under q (the label's transform and phase, conjugated by the offset d)
+// onto the exemplar: moving d by delta moves the image by (I - s R) delta, and the label's motion k (column first + k)
+// by its field, about the slippage's centre moved by d (the phase acts inside the conjugation).
+void add_offset_pairs(const PlacedImages& exemplar, const Similarity& q, const Slippage& slip, const Eigen::Vector3d& d,
+                      Index first, OffsetSystem& sys) {
   const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() - q.scale * q.rotation;
   const Index m = Index(slip.motions.size());
   const Index at[5] = {0, 1, 2, first, first + 1};
@@ -538,7 +539,7 @@ void add_offset_pairs(const PlacedImages& exemplar, const Similarity& q, const S
     Eigen::Matrix<double, 5, 1> g;
     g.head<3>() = M.transpose() * n;
     Eigen::Matrix<double, 6, 1> twist;
-    twist << (p - slip.centre).cross(n), slip.radius * n;
+    twist << (p - d - slip.centre).cross(n), slip.radius * n;
     for (Index k = 0; k < m; ++k) g(3 + k) = twist.dot(slip.motions[size_t(k)]);
     const double r = n.dot(p - y);
     sys.r2 += r * r;
@@ -609,7 +610,7 @@ OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Si
   for (int it = 0; it <= iterations; ++it) {
     sys = {Eigen::MatrixXd::Zero(cols, cols), Eigen::VectorXd::Zero(cols)};
     for (size_t i = 0; i < labels.size(); ++i)
-      add_offset_pairs(exemplar, offset_by(d, phase[labels[i]].compose(inv[labels[i]])), slips[labels[i]], first[i],
+      add_offset_pairs(exemplar, offset_by(d, phase[labels[i]].compose(inv[labels[i]])), slips[labels[i]], d, first[i],
                        sys);
     if (sys.pairs < 30 || it == iterations) break;
     const Eigen::VectorXd x = offset_step(sys, relief);
@@ -678,13 +679,13 @@ Eigen::Vector3d applied_offset(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3X
 // Refines each used transform's inverse (source -> target) against the exemplar images already placed: the anchor
 // (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
 // in phase along its slippable motions (`slips`, per label) and by rigid point-to-plane ICP on the overlap. With the
-// exemplar as the anchor, every transform is first conjugated by the exemplar's registration offset; where it moved
-// them, the refinement's candidates are scored by truncated least squares (see `refinement`).
+// exemplar as the anchor, every transform is first conjugated by the exemplar's registration offset, and the slippable
+// motions turn about centres moved by it; where it moved them, the refinement's candidates are scored by truncated
+// least squares (see `refinement`).
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
-            const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
-            const std::vector<Slippage>& slips, std::vector<Similarity>& inv,
-            std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
+            const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o, std::vector<Slippage> slips,
+            std::vector<Similarity>& inv, std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -697,6 +698,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
   if (on_template) {  // the exemplar is the anchor
     out.registration_offset = applied_offset(ep, en, inv, *on_template, slips, relief, spacing, o);
     for (Similarity& q : inv) q = offset_by(out.registration_offset, q);
+    for (Slippage& slip : slips) slip.centre += out.registration_offset;  // the images turn about the moved axes
     placed.place(ep, en);
   } else if (remaining > 0) {
     const size_t biggest = size_t(std::max_element(region_size.begin(), region_size.end()) - region_size.begin());
