@@ -588,9 +588,12 @@ struct OffsetFit {
 // (moved by (I - s R_l) d). Each label's own free fit would find that too, but on a small overlap it can end a tooth
 // off instead (the gear), or follow faces the scanner did not see (the crate from below): one d seen by every label
 // is fixed better. Fitted jointly with each label's phase along its slippable motions (which d must not absorb), by
-// point-to-plane ICP onto the exemplar of the images of the turned labels that land mostly on the template (a leg's
-// own turn carries the table's top off it); with fewer than two such labels, none. d moves only within `relief`'s span
-// (relief_directions): with an empty basis it stays zero and only the phases are fitted, the misfit to compare with.
+// point-to-plane ICP onto the exemplar of the images of the turned transforms that land mostly on the template (a
+// leg's own turn carries the table's top off it), whether a region took them or not: d is the exemplar's, not the
+// labelling's (a crate seen from a low side takes only the identity and a half turn, whose image meets the exemplar
+// nowhere; the quarter turns carry one seen face onto the other). With fewer than two, none. d moves only within
+// `relief`'s span (relief_directions): with an empty basis it stays zero and only the phases are fitted, the misfit to
+// compare with.
 OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
                               const std::vector<std::uint8_t>& on_template, const std::vector<Slippage>& slips,
                               int iterations, const Eigen::Matrix3Xd& relief) {
@@ -773,15 +776,22 @@ bool landing_on(const SynthesisInputs& in, const Similarity& inv, const KdTree& 
 // onto the floor, which does not; the crate seen from above: the phase search slid that flip 2.7 cm down its walls,
 // taking the floor with it, and the floor's own flip was fitted onto that image (F 0.73). An image that lands mostly
 // off the template (a leg's own turn carries the table top off the table) moves only its region: its motions stay.
-// `lands_on_template`: whether at least half the exemplar's source samples land within `reach` of the template.
+// A transform no region took (a candidate the registration offset is fitted with) slides as the template does where
+// its image lands. `lands_on_template`: whether at least half the exemplar's source samples land within `reach` of the
+// template.
 Slippage image_slippage(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
                         int label, std::uint8_t& lands_on_template) {
   std::vector<std::uint8_t> footprint(in.labels.size());
   for (size_t t = 0; t < footprint.size(); ++t) footprint[t] = in.labels[t] == label;
-  const Slippage slip = slippable_motions(in.target, footprint);  // the region's
   const std::vector<std::int32_t> nearest = landing_targets(in, inv, target_tree, reach);
   const auto landed = std::count_if(nearest.begin(), nearest.end(), [](std::int32_t t) { return t >= 0; });
   lands_on_template = 2 * landed >= std::ssize(nearest);
+  if (std::find(footprint.begin(), footprint.end(), 1) == footprint.end()) {  // no region: the landing's motions
+    for (const std::int32_t t : nearest)
+      if (t >= 0) footprint[size_t(t)] = 1;
+    return slippable_motions(in.target, footprint);
+  }
+  const Slippage slip = slippable_motions(in.target, footprint);  // the region's
   if (slip.motions.empty() || !lands_on_template) return slip;
   for (const std::int32_t t : nearest)
     if (t >= 0) footprint[size_t(t)] = 1;
@@ -906,7 +916,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   std::vector<Slippage> slips(in.transforms.size());
   std::vector<std::uint8_t> on_template(in.transforms.size(), 0);
   for (size_t l = 0; l < slips.size(); ++l)
-    if (region_size[l] > 0)
+    if (region_size[l] > 0 || in.covered)  // completion: every transform may fix the registration offset
       slips[l] = image_slippage(in, labelled_inverse[l], target_tree, spacing * o.reach, int(l), on_template[l]);
   const Eigen::Matrix3Xd relief = in.covered ? relief_directions(ep, en, T, target_tree) : Eigen::Matrix3Xd(3, 0);
   refine(ep, en, region_size, used, in.covered ? &on_template : nullptr, relief, spacing, o, slips, inverse, splits,

@@ -276,5 +276,47 @@ TEST(SynthesizeRefinement, TurnsAGearsImageAboutTheExemplarsOwnAxisNotTheTemplat
   EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
 }
 
+// The offset is the exemplar's, not the labelling's: a crate seen from a low side (its +x and +y faces) registers
+// 1.5 cm off the box, pulled by its raised relief. The labelling takes only the identity and the half turn, whose
+// image (the -x and -y faces) meets the exemplar nowhere; the quarter turns, which carry one seen face onto the
+// other, are candidates no region took. They fix the offset, and the half turn's image lands on the shifted crate.
+TEST(SynthesizeRefinement, FitsTheOffsetWithTheTurnsNoRegionTook) {
+  const PointSet crate = make_crate(), plain = make_crate_template();
+  const Index n = 20000;
+  const double alpha = std::sqrt(0.64 * surface_area(crate.positions(), crate.faces()) / double(n));
+  const Eigen::Vector3d offset(-0.011, -0.010, 0);
+  const PointSet all = random_surface_points(crate, 2 * n, 7);
+  std::vector<Index> seen;  // the +x and +y faces
+  for (Index i = 0; i < all.size(); ++i)
+    if (all.positions()(0, i) > 0.28 || all.positions()(1, i) > 0.28) seen.push_back(i);
+  PointSet exemplar(all.positions()(Eigen::all, seen).colwise() + offset);
+  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const auto turn = [](double deg) {
+    return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                      Eigen::Vector3d::Zero(), 1};
+  };
+  const Synthesis syn = refine_transforms(
+      exemplar, random_surface_points(plain, n, 11), {turn(0), turn(180), turn(90), turn(270)},
+      [](const Eigen::Vector3d& p) { return p.x() + p.y() < 0 ? 1 : 0; }, alpha);
+  std::printf("registration offset (%.4f, %.4f, %.4f)\n", syn.registration_offset.x(), syn.registration_offset.y(),
+              syn.registration_offset.z());
+  EXPECT_LT((syn.registration_offset.head<2>() - offset.head<2>()).norm(), 0.2 * alpha);
+  KdTree truth;
+  const PointSet dense = random_surface_points(crate, 400000, 5);
+  const Eigen::Matrix3Xd shifted = dense.positions().colwise() + offset;
+  truth.build(shifted);
+  std::vector<double> distance;  // the half turn's points: distance to the shifted crate, in alpha
+  for (Index i = 0; i < syn.points.size(); ++i) {
+    if (syn.origin[size_t(i)] != Origin::kSynthesized || syn.label[size_t(i)] != 1) continue;
+    std::int32_t j;
+    double d2;
+    truth.knn(syn.points.positions().col(i), 1, &j, &d2);
+    distance.push_back(std::sqrt(d2) / alpha);
+  }
+  ASSERT_GT(distance.size(), 1000u);
+  std::nth_element(distance.begin(), distance.begin() + long(distance.size() * 9 / 10), distance.end());
+  EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
+}
+
 }  // namespace
 }  // namespace scanfill
