@@ -20,7 +20,10 @@ OptionTable option_table(SynthesisOptions& sy) {
             non_negative(&sy.search_distance)},
            {"gap_distance", &sy.gap_distance,
             "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
-            positive(&sy.gap_distance)}}};
+            positive(&sy.gap_distance)},
+           {"overlay_distance", &sy.overlay_distance,
+            "a target sample with no patch point over it this close across its normal (alpha) is copied; > 0",
+            positive(&sy.overlay_distance)}}};
 }
 
 }  // namespace scanfill

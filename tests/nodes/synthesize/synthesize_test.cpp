@@ -318,5 +318,33 @@ TEST(SynthesizeRefinement, FitsTheOffsetWithTheTurnsNoRegionTook) {
   EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
 }
 
+// A target sample is copied where no patch point lies over it, even where source samples land near it: an exemplar in
+// stripes 5 alpha wide and 5 alpha apart (a lid scanned at a grazing angle) leaves the strips between them empty, and
+// reaching alone (within 4 alpha of a landed source sample) let them through.
+TEST(SynthesizeGaps, CopiesTheTargetBetweenAnExemplarsStripes) {
+  const PointSet square = make_plane(1.0, 40);
+  const Index n = 8000;
+  const double alpha = std::sqrt(0.64 * surface_area(square.positions(), square.faces()) / double(n));
+  const PointSet all = random_surface_points(square, n, 7), target = random_surface_points(square, n, 11);
+  std::vector<Index> striped;
+  for (Index i = 0; i < all.size(); ++i)
+    if (std::fmod(all.positions()(0, i) + 0.5, 10 * alpha) < 5 * alpha) striped.push_back(i);
+  PointSet exemplar(all.positions()(Eigen::all, striped));
+  exemplar.set_normals(all.normals()(Eigen::all, striped));
+  const Synthesis syn = refine_one_transform(exemplar, target, Similarity{}, alpha);
+  KdTree output;
+  output.build(syn.points.positions());
+  Index bare = 0;  // target samples with no output point within 2 alpha
+  for (Index t = 0; t < target.size(); ++t) {
+    std::int32_t j;
+    double d2;
+    output.knn(target.positions().col(t), 1, &j, &d2);
+    bare += d2 > std::pow(2 * alpha, 2);
+  }
+  std::printf("%td gap copies, %td of %td target samples bare\n", syn.gap_copies, bare, target.size());
+  EXPECT_GT(syn.gap_copies, 0);
+  EXPECT_EQ(bare, 0);
+}
+
 }  // namespace
 }  // namespace scanfill
