@@ -730,13 +730,19 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
   }
 }
 
+// The points as the columns of a matrix.
+Eigen::Matrix3Xd as_columns(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Matrix3Xd m(3, Index(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) m.col(Index(i)) = points[i];
+  return m;
+}
+
 // Per target sample: whether a carried source sample landed within `distance` of it.
 std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& landed, const PointSet& T,
                                           double distance) {
   std::vector<std::uint8_t> reached(size_t(T.size()), 0);
   if (landed.empty()) return reached;
-  Eigen::Matrix3Xd landing(3, Index(landed.size()));
-  for (size_t i = 0; i < landed.size(); ++i) landing.col(Index(i)) = landed[i];
+  const Eigen::Matrix3Xd landing = as_columns(landed);
   KdTree tree;
   tree.build(landing);
   std::vector<std::int32_t> nearest;
@@ -811,8 +817,7 @@ std::vector<std::uint8_t> overlaid_targets(const std::vector<Eigen::Vector3d>& p
                                            double plain) {
   std::vector<std::uint8_t> over(size_t(T.size()), 0);
   if (p.empty()) return over;
-  Eigen::Matrix3Xd points(3, Index(p.size()));
-  for (size_t i = 0; i < p.size(); ++i) points.col(Index(i)) = p[i];
+  const Eigen::Matrix3Xd points = as_columns(p);
   KdTree tree;
   tree.build(points);
   tbb::parallel_for(Index(0), T.size(), [&](Index t) {
@@ -997,13 +1002,8 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     b.add(T.positions().col(t), T.normals().col(t), Origin::kTarget, in.self_label, self_patch, int(t), false);
   }
 
-  Eigen::Matrix3Xd P(3, Index(b.p.size())), N(3, Index(b.p.size()));
-  for (size_t i = 0; i < b.p.size(); ++i) {
-    P.col(Index(i)) = b.p[i];
-    N.col(Index(i)) = b.n[i];
-  }
-  out.points = PointSet(std::move(P));
-  out.points.set_normals(std::move(N));
+  out.points = PointSet(as_columns(b.p));
+  out.points.set_normals(as_columns(b.n));
   return out;
 }
 

@@ -233,6 +233,29 @@ TEST(SynthesizeRefinement, GivesTheBeadsBelowAVasesFlutesAPhaseOfTheirOwn) {
   EXPECT_LT(median(flutes), 0.35);
 }
 
+// Per synthesised point of `label` (any label: -2): its distance, in alpha, to the model moved by `offset`.
+std::vector<double> distances_to_shifted(const Synthesis& syn, const PointSet& model, const Eigen::Vector3d& offset,
+                                         double alpha, int label) {
+  KdTree truth;
+  const PointSet dense = random_surface_points(model, 400000, 5);
+  const Eigen::Matrix3Xd shifted = dense.positions().colwise() + offset;
+  truth.build(shifted);
+  std::vector<double> distance;
+  for (Index i = 0; i < syn.points.size(); ++i) {
+    if (syn.origin[size_t(i)] != Origin::kSynthesized || (label != -2 && syn.label[size_t(i)] != label)) continue;
+    std::int32_t j;
+    double d2;
+    truth.knn(syn.points.positions().col(i), 1, &j, &d2);
+    distance.push_back(std::sqrt(d2) / alpha);
+  }
+  return distance;
+}
+
+double ninetieth_percentile(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + long(v.size() * 9 / 10), v.end());
+  return v[v.size() * 9 / 10];
+}
+
 // A one-sided scan of a gear registers towards its teeth, off the plain annulus's axis: the template's turns hold about
 // the template's axis, and the exemplar's image must turn about its own. Half a gear, 3 cm off the annulus (the
 // registration error), carried by a quarter turn (x > 0) and a half turn (x < 0) about the annulus's axis: the
@@ -259,21 +282,9 @@ TEST(SynthesizeRefinement, TurnsAGearsImageAboutTheExemplarsOwnAxisNotTheTemplat
               syn.registration_offset.z());
   EXPECT_LT((syn.registration_offset.head<2>() - offset.head<2>()).norm(), 0.2 * alpha);
   EXPECT_LT(std::abs(syn.registration_offset.z()), 1e-9);  // a turn about z sees nothing of d along z
-  KdTree truth;
-  const PointSet dense = random_surface_points(gear, 400000, 5);
-  const Eigen::Matrix3Xd shifted = dense.positions().colwise() + offset;
-  truth.build(shifted);
-  std::vector<double> distance;  // synthesised points: distance to the shifted gear, in alpha
-  for (Index i = 0; i < syn.points.size(); ++i) {
-    if (syn.origin[size_t(i)] != Origin::kSynthesized) continue;
-    std::int32_t j;
-    double d2;
-    truth.knn(syn.points.positions().col(i), 1, &j, &d2);
-    distance.push_back(std::sqrt(d2) / alpha);
-  }
+  const std::vector<double> distance = distances_to_shifted(syn, gear, offset, alpha, -2);
   ASSERT_GT(distance.size(), 1000u);
-  std::nth_element(distance.begin(), distance.begin() + long(distance.size() * 9 / 10), distance.end());
-  EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
+  EXPECT_LT(ninetieth_percentile(distance), 0.5);  // 90% within half an alpha
 }
 
 // The offset is the exemplar's, not the labelling's: a crate seen from a low side (its +x and +y faces) registers
@@ -301,21 +312,9 @@ TEST(SynthesizeRefinement, FitsTheOffsetWithTheTurnsNoRegionTook) {
   std::printf("registration offset (%.4f, %.4f, %.4f)\n", syn.registration_offset.x(), syn.registration_offset.y(),
               syn.registration_offset.z());
   EXPECT_LT((syn.registration_offset.head<2>() - offset.head<2>()).norm(), 0.2 * alpha);
-  KdTree truth;
-  const PointSet dense = random_surface_points(crate, 400000, 5);
-  const Eigen::Matrix3Xd shifted = dense.positions().colwise() + offset;
-  truth.build(shifted);
-  std::vector<double> distance;  // the half turn's points: distance to the shifted crate, in alpha
-  for (Index i = 0; i < syn.points.size(); ++i) {
-    if (syn.origin[size_t(i)] != Origin::kSynthesized || syn.label[size_t(i)] != 1) continue;
-    std::int32_t j;
-    double d2;
-    truth.knn(syn.points.positions().col(i), 1, &j, &d2);
-    distance.push_back(std::sqrt(d2) / alpha);
-  }
+  const std::vector<double> distance = distances_to_shifted(syn, crate, offset, alpha, 1);  // the half turn's
   ASSERT_GT(distance.size(), 1000u);
-  std::nth_element(distance.begin(), distance.begin() + long(distance.size() * 9 / 10), distance.end());
-  EXPECT_LT(distance[distance.size() * 9 / 10], 0.5);  // 90% within half an alpha
+  EXPECT_LT(ninetieth_percentile(distance), 0.5);
 }
 
 // A target sample is copied where no patch point lies over it, even where source samples land near it: an exemplar in
