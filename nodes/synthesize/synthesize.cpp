@@ -137,6 +137,7 @@ class PlacedImages {
     nn << ref_n_, n;
     ref_p_ = std::move(np);
     ref_n_ = std::move(nn);
+    indexed_ = false;  // the tree held the old matrix
   }
 
   void place(const Similarity& q) {
@@ -145,7 +146,12 @@ class PlacedImages {
     place(p, n);
   }
 
-  void index() { tree_.build(ref_p_); }
+  // Builds the kd-tree over the placed points, unless it holds them already (nothing placed since).
+  void index() {
+    if (indexed_) return;
+    tree_.build(ref_p_);
+    indexed_ = true;
+  }
   double limit2() const { return limit2_; }
 
   // Calls f(image point, placed point, placed normal) for each exemplar sample whose image under q has a placed
@@ -267,6 +273,7 @@ class PlacedImages {
   double limit2_;
   Eigen::Matrix3Xd ref_p_ = Eigen::Matrix3Xd(3, 0), ref_n_ = Eigen::Matrix3Xd(3, 0);
   KdTree tree_;
+  bool indexed_ = false;  // whether the tree holds the placed points
 };
 
 // The step along slippable motion v (in units of `step`, tried 0, 1, -1, 2, -2, ... up to +-steps) that best fits the
@@ -597,33 +604,33 @@ struct OffsetFit {
 OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
                               const std::vector<std::uint8_t>& on_template, const std::vector<Slippage>& slips,
                               int iterations, const Eigen::Matrix3Xd& relief) {
-  std::vector<size_t> labels;
-  std::vector<Index> first;  // per fitted label: the column of its first motion
+  std::vector<size_t> turned;  // the fitted transforms
+  std::vector<Index> first;    // per fitted transform: the column of its first motion
   Index cols = 3;
   for (size_t l = 0; l < inv.size(); ++l)
     if (on_template[l] && rotation_angle(inv[l].rotation) > 1e-3) {
-      labels.push_back(l);
+      turned.push_back(l);
       first.push_back(cols);
       cols += Index(slips[l].motions.size());
     }
-  if (labels.size() < 2) return {};  // one label's own free fit finds as much
+  if (turned.size() < 2) return {};  // one turn's image fixes d only with its own phase: its free fit finds as much
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   std::vector<Similarity> phase(inv.size());
   OffsetSystem sys;
   for (int it = 0; it <= iterations; ++it) {
     sys = {Eigen::MatrixXd::Zero(cols, cols), Eigen::VectorXd::Zero(cols)};
-    for (size_t i = 0; i < labels.size(); ++i)
-      add_offset_pairs(exemplar, offset_by(d, phase[labels[i]].compose(inv[labels[i]])), slips[labels[i]], d, first[i],
+    for (size_t i = 0; i < turned.size(); ++i)
+      add_offset_pairs(exemplar, offset_by(d, phase[turned[i]].compose(inv[turned[i]])), slips[turned[i]], d, first[i],
                        sys);
     if (sys.pairs < 30 || it == iterations) break;
     const Eigen::VectorXd x = offset_step(sys, relief);
     if (!x.allFinite()) break;
     d += x.head<3>();
-    for (size_t i = 0; i < labels.size(); ++i) {
-      const Slippage& slip = slips[labels[i]];
+    for (size_t i = 0; i < turned.size(); ++i) {
+      const Slippage& slip = slips[turned[i]];
       Eigen::Matrix<double, 6, 1> v = Eigen::Matrix<double, 6, 1>::Zero();
       for (size_t k = 0; k < slip.motions.size(); ++k) v += x(first[i] + Index(k)) * slip.motions[k];
-      phase[labels[i]] = motion(v, 1.0, slip.centre, slip.radius).compose(phase[labels[i]]);
+      phase[turned[i]] = motion(v, 1.0, slip.centre, slip.radius).compose(phase[turned[i]]);
     }
   }
   return {d, sys.r2, sys.pairs};
@@ -661,14 +668,10 @@ Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matr
 // label's own free fit corrects as well (the crate seen from the front, 0.7 alpha). Where the exemplar's detail does
 // not repeat under the template's turns (Vase-Lion's lion heads), the fit only moves misfit about: 0.98-1.84 of it,
 // against 0.03-0.07 on the gear and 0.36-0.51 on the crate seen from above and below.
-Eigen::Vector3d applied_offset(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
-                               const std::vector<Similarity>& inv, const std::vector<std::uint8_t>& on_template,
-                               const std::vector<Slippage>& slips, const Eigen::Matrix3Xd& relief, double spacing,
-                               const SynthesisOptions& o) {
-  const double limit2 = std::pow(o.refine_distance * spacing, 2);
-  PlacedImages exemplar(ep, en, limit2);
-  exemplar.place(ep, en);
-  exemplar.index();
+Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
+                               const std::vector<std::uint8_t>& on_template, const std::vector<Slippage>& slips,
+                               const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o) {
+  const double limit2 = exemplar.limit2();
   const OffsetFit with = registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, relief);
   if (with.d.norm() < 1.25 * spacing) return Eigen::Vector3d::Zero();
   const OffsetFit without =
@@ -702,9 +705,10 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
   size_t remaining = 0;
   for (size_t l = 0; l < L; ++l) remaining += region_size[l] > 0;
   if (on_template) {  // the exemplar is the anchor
-    out.registration_offset = applied_offset(ep, en, inv, *on_template, slips, relief, spacing, o);
-    for (Similarity& q : inv) q = offset_by(out.registration_offset, q);
     placed.place(ep, en);
+    placed.index();
+    out.registration_offset = applied_offset(placed, inv, *on_template, slips, relief, spacing, o);
+    for (Similarity& q : inv) q = offset_by(out.registration_offset, q);
   } else if (remaining > 0) {
     const size_t biggest = size_t(std::max_element(region_size.begin(), region_size.end()) - region_size.begin());
     placed.place(inv[biggest]);
@@ -807,26 +811,26 @@ Slippage image_slippage(const SynthesisInputs& in, const Similarity& inv, const 
 }
 
 // Per target sample: whether it needs no copy of the target, the synthesised points `p` (moved by the exemplar's
-// registration `offset`, as the images are) being over it or standing off it. Over: one of its `nearest` (at most 32)
-// lies within `across` of its normal line and `along` of its plane. Off: the median height above its plane of those
-// within `along` is more than `plain`, so that a copy of the plain template would be a pit in the relief (the gear's
-// teeth; a real pillar that its box fits badly). Reaching judges where source samples land, which a correspondence
-// that gives few exemplar samples to a face leaves sparse; this judges the output itself: the crate seen from the
-// front, its lid scanned in stripes at a grazing angle, flipped onto the floor as stripes 2-3 alpha apart, which
-// reaching (4 alpha) let through: 56% of the floor missed.
+// registration `offset`, as the images are) being over it or standing off it. Over: one of its 32 nearest lies within
+// `across` of its normal line and `along` of its plane. Off: the median height above its plane of those within `along`
+// is more than `plain`, so that a copy of the plain template would be a pit in the relief (the gear's teeth; a real
+// pillar that its box fits badly). Reaching judges where source samples land, which a correspondence that gives few
+// exemplar samples to a face leaves sparse; this judges the output itself: the crate seen from the front, its lid
+// scanned in stripes at a grazing angle, flipped onto the floor as stripes 2-3 alpha apart, which reaching (4 alpha)
+// let through: 56% of the floor missed.
 std::vector<std::uint8_t> overlaid_targets(const std::vector<Eigen::Vector3d>& p, const PointSet& T,
-                                           const Eigen::Vector3d& offset, int nearest, double across, double along,
-                                           double plain) {
+                                           const Eigen::Vector3d& offset, double across, double along, double plain) {
   std::vector<std::uint8_t> over(size_t(T.size()), 0);
   if (p.empty()) return over;
   const Eigen::Matrix3Xd points = as_columns(p);
   KdTree tree;
   tree.build(points);
   tbb::parallel_for(Index(0), T.size(), [&](Index t) {
-    std::int32_t index[32];
-    double d2[32], height[32];
+    constexpr int kNearest = 32;
+    std::int32_t index[kNearest];
+    double d2[kNearest], height[kNearest];
     const Eigen::Vector3d x = T.positions().col(t) + offset, n = T.normals().col(t);
-    const int k = tree.knn(x, std::min(nearest, 32), index, d2);
+    const int k = tree.knn(x, kNearest, index, d2);
     int m = 0;
     for (int j = 0; j < k; ++j) {
       const double h = std::abs(n.dot(points.col(index[j]) - x));
@@ -991,7 +995,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   fill_holes(in, ep, en, inverse, out.registration_offset, region_size, target_tree, spacing, o, landed, b);
   const std::vector<std::uint8_t> reached = reached_targets(landed, T, o.gap_distance * spacing);
   const std::vector<std::uint8_t> overlaid = overlaid_targets(
-      b.p, T, out.registration_offset, 32, o.overlay_distance * spacing, o.gap_distance * spacing, spacing);
+      b.p, T, out.registration_offset, o.overlay_distance * spacing, o.gap_distance * spacing, spacing);
 
   // Self-referenced regions, and target samples no patch reached: copies of the target.
   const int self_patch = int(out.patches.size());
