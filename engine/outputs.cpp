@@ -49,6 +49,18 @@ nlohmann::json solver_json(const SolverSummary& s) {
           {"final_cost", s.final_cost}};
 }
 
+// The exemplar's repeats about the axes the regions turn about (nodes/synthesize/repeats.h).
+nlohmann::json repeats_json(const std::vector<AxialRepeats>& repeats) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const AxialRepeats& r : repeats)
+    out.push_back({{"point", json_vec(r.point)},
+                   {"direction", json_vec(r.direction)},
+                   {"cut_height", r.cut},
+                   {"order_below_cut", r.order[0]},
+                   {"order_above_cut", r.order[1]}});
+  return out;
+}
+
 // A colour per label (golden-ratio hues), grey for the self-reference.
 std::array<double, 3> label_colour(int label, int self_label) {
   if (label == self_label) return {128, 128, 128};
@@ -165,7 +177,8 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"refinement_deg", syn.refinement_deg},
                          {"refinement_shift", syn.refinement_shift},
                          {"registration_offset", json_vec(syn.registration_offset)},
-                         {"second_phase_deg", syn.second_phase_deg}};
+                         {"second_phase_deg", syn.second_phase_deg},
+                         {"repeats", repeats_json(syn.repeats)}};
   const CorrespondResult& m = s.correspondence->map;
   report["correspondence"] = {
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},

@@ -14,6 +14,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/synthesize/repeats.h"
 #include "nodes/synthesize/synthesize_options.h"
 
 namespace scanfill {
@@ -500,6 +501,89 @@ std::optional<PhaseSplit> phase_split(const PlacedImages& placed, const Eigen::M
   return out;
 }
 
+// The axis region `slip` turns about, moved by the exemplar's registration offset d (the images turn about it).
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> turning_axis(const Slippage& slip,
+                                                                        const Eigen::Vector3d& d) {
+  const Eigen::Matrix<double, 6, 1>* v = turn_about_axis(slip);
+  if (v == nullptr) return std::nullopt;
+  const Eigen::Vector3d w = v->head<3>(), tau = v->tail<3>() * slip.radius;
+  return std::pair{Eigen::Vector3d(slip.centre + w.cross(tau) / w.squaredNorm() + d), Eigen::Vector3d(w.normalized())};
+}
+
+// The exemplar's repeats about each axis the regions turn about (completion), found once per axis: axes within a
+// degree and half an alpha of one another are one.
+class RepeatsByAxis {
+ public:
+  RepeatsByAxis(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, double spacing, double limit)
+      : ep_(ep), en_(en), spacing_(spacing), limit_(limit) {}
+
+  const AxialRepeats* about(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
+    for (const Entry& e : found_) {
+      const Eigen::Vector3d x = point - e.point;
+      if (std::abs(e.direction.dot(direction)) >= std::cos(M_PI / 180) &&
+          (x - e.direction * e.direction.dot(x)).norm() <= 0.5 * spacing_)
+        return e.repeats ? &*e.repeats : nullptr;
+    }
+    found_.push_back({point, direction, axial_repeats(ep_, en_, point, direction, spacing_, limit_)});
+    return found_.back().repeats ? &*found_.back().repeats : nullptr;
+  }
+
+  std::vector<AxialRepeats> repeats() const {
+    std::vector<AxialRepeats> out;
+    for (const Entry& e : found_)
+      if (e.repeats) out.push_back(*e.repeats);
+    return out;
+  }
+
+ private:
+  struct Entry {
+    Eigen::Vector3d point, direction;
+    std::optional<AxialRepeats> repeats;
+  };
+  const Eigen::Matrix3Xd &ep_, &en_;
+  double spacing_, limit_;
+  std::vector<Entry> found_;
+};
+
+// Turns region l's image (inv) to the exemplar's repeats r, band by band (turn_to_repeat, no farther than the phase
+// search goes): the used samples of two bands that turn differently become two parts, and inv becomes the turn of
+// the band with more of them. Returns the per-band images when they differ, else none (inv turned as a whole, or
+// unchanged when no band's turn applies).
+std::optional<std::array<Similarity, 2>> turn_to_repeats(const AxialRepeats& r, const Eigen::Matrix3Xd& ep,
+                                                         const std::vector<std::int32_t>& used, double spacing,
+                                                         const SynthesisOptions& o, Similarity& inv,
+                                                         std::optional<PhaseSplit>& split) {
+  std::array<Similarity, 2> band_inv{inv, inv};
+  bool any = false;
+  for (size_t b = 0; b < 2; ++b)
+    if (const auto c = turn_to_repeat(r, r.order[b], inv, o.search_distance * spacing, spacing)) {
+      band_inv[b] = c->compose(inv);
+      any = true;
+    }
+  if (!any) return std::nullopt;
+  PhaseSplit s{std::vector<std::uint8_t>(used.size()), band_inv};
+  size_t above = 0;
+  for (size_t i = 0; i < used.size(); ++i) above += s.part[i] = std::uint8_t(band_of(r, ep.col(used[i])));
+  inv = band_inv[2 * above >= used.size() ? 1 : 0];
+  const bool same = r.order[0] == r.order[1] || above == 0 || above == used.size();
+  split.reset();
+  if (same) return std::nullopt;
+  split = std::move(s);
+  return band_inv;
+}
+
+// The exemplar's image with each sample carried by its band's transform.
+void place_by_band(PlacedImages& placed, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const AxialRepeats& r,
+                   const std::array<Similarity, 2>& band_inv) {
+  Eigen::Matrix3Xd p(3, ep.cols()), n(3, ep.cols());
+  for (Index e = 0; e < ep.cols(); ++e) {
+    const Similarity& q = band_inv[size_t(band_of(r, ep.col(e)))];
+    p.col(e) = q.apply(ep.col(e));
+    n.col(e) = q.apply_normal(en.col(e));
+  }
+  placed.place(p, n);
+}
+
 // The unplaced transform whose image overlaps the placed images most, with that overlap.
 std::pair<size_t, Index> most_overlapping(const PlacedImages& placed, const std::vector<Similarity>& inv,
                                           const std::vector<Index>& region_size, const std::vector<char>& is_placed) {
@@ -716,24 +800,34 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     --remaining;
   }
   const bool truncated = !out.registration_offset.isZero();
+  RepeatsByAxis repeats(ep, en, spacing, o.refine_distance * spacing);
   for (; remaining > 0; --remaining) {
     placed.index();
     const auto [best, best_overlap] = most_overlapping(placed, inv, region_size, is_placed);
     is_placed[best] = 1;
+    const Slippage& slip = slips[best];
+    const Similarity labelled = inv[best];
     if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const Slippage& slip = slips[best];
-      const Similarity c = refinement(placed, inv[best], slip, spacing, o, truncated);
-      inv[best] = c.compose(inv[best]);
+      inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated).compose(inv[best]);
       splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
-      if (splits[best]) {
-        const auto& inv2 = splits[best]->inv;
-        out.second_phase_deg[best] = rotation_angle(inv2[1].rotation * inv2[0].rotation.transpose()) * 180 / M_PI;
-      }
-      out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
-      out.refinement_shift[best] = c.translation.norm();
     }
-    placed.place(inv[best]);
+    // Completion: the exemplar's own repeats about the axis fix the phase where they are clear.
+    const auto axis = on_template ? turning_axis(slip, out.registration_offset) : std::nullopt;
+    const AxialRepeats* r = axis ? repeats.about(axis->first, axis->second) : nullptr;
+    const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, o, inv[best], splits[best]) : std::nullopt;
+    if (splits[best]) {
+      const auto& inv2 = splits[best]->inv;
+      out.second_phase_deg[best] = rotation_angle(inv2[1].rotation * inv2[0].rotation.transpose()) * 180 / M_PI;
+    }
+    const Similarity c = inv[best].compose(labelled.inverse());
+    out.refinement_deg[best] = rotation_angle(c.rotation) * 180 / M_PI;
+    out.refinement_shift[best] = c.translation.norm();
+    if (band_inv)
+      place_by_band(placed, ep, en, *r, *band_inv);
+    else
+      placed.place(inv[best]);
   }
+  out.repeats = repeats.repeats();
 }
 
 // The points as the columns of a matrix.

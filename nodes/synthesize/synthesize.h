@@ -33,6 +33,7 @@
 
 #include "nodes/core/point_set.h"
 #include "nodes/core/similarity.h"
+#include "nodes/synthesize/repeats.h"
 
 namespace scanfill {
 
@@ -71,6 +72,7 @@ struct Synthesis {
   // The exemplar's registration offset from the template, shared by every label's image (completion only; else 0).
   Eigen::Vector3d registration_offset = Eigen::Vector3d::Zero();
   std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)
+  std::vector<AxialRepeats> repeats;     // completion: the exemplar's repeats about the axes regions turn about
 };
 
 struct SynthesisInputs {

@@ -1,0 +1,192 @@
+#include "nodes/synthesize/repeats.h"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+namespace {
+
+constexpr double kMaxTurn = 2 * M_PI / 3;  // turns tried: up to 120 degrees, where a half-seen ring still overlaps
+constexpr int kMostTurns = 360;            // at most this many steps (bounds the table)
+constexpr Index kMostSamples = 4000;       // the exemplar is scored on an even subsample of at most this many
+constexpr double kDeep = 0.25;             // a repeat's misfit is at most this share of the band's median misfit
+
+// The turn by `angle` about the axis through `point` along unit `direction`.
+Similarity turn(double angle, const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, direction).toRotationMatrix();
+  return Similarity{R, point - R * point, 1.0};
+}
+
+// The squared point-to-plane misfit of samples (sorted by height) turned by each step k (a turn of (k + 1) steps)
+// against the exemplar, over pairs within the limit, as prefix sums over the samples: any band [a, b) scores at any
+// step in O(1).
+class TurnTable {
+ public:
+  TurnTable(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& sorted,
+            const AxialRepeats& axis, double step, int steps, double limit)
+      : n_(sorted.size()), K_(size_t(steps)), sum_((n_ + 1) * K_, 0.0), count_((n_ + 1) * K_, 0.0) {
+    KdTree tree;
+    tree.build(ep);
+    std::vector<float> r2(n_ * K_);  // sample-major: each sample's turns in one task
+    tbb::parallel_for(size_t(0), n_, [&](size_t i) {
+      for (size_t k = 0; k < K_; ++k) {
+        const Eigen::Vector3d x = turn(double(k + 1) * step, axis.point, axis.direction).apply(ep.col(sorted[i]));
+        std::int32_t j;
+        double d2;
+        tree.knn(x, 1, &j, &d2);
+        r2[i * K_ + k] = d2 <= limit * limit ? float(std::pow((x - ep.col(j)).dot(en.col(j)), 2)) : -1.0f;
+      }
+    });
+    for (size_t i = 0; i < n_; ++i)
+      for (size_t k = 0; k < K_; ++k) {
+        const float r = r2[i * K_ + k];
+        sum_[(i + 1) * K_ + k] = sum_[i * K_ + k] + std::max(0.0f, r);
+        count_[(i + 1) * K_ + k] = count_[i * K_ + k] + (r >= 0);
+      }
+  }
+
+  size_t steps() const { return K_; }
+  double count(size_t a, size_t b, size_t k) const { return count_[b * K_ + k] - count_[a * K_ + k]; }
+  double mean(size_t a, size_t b, size_t k) const {
+    return (sum_[b * K_ + k] - sum_[a * K_ + k]) / std::max(1.0, count(a, b, k));
+  }
+
+ private:
+  size_t n_, K_;
+  std::vector<double> sum_, count_;
+};
+
+struct BandRepeat {
+  int order = 0;     // 0: none
+  double sum = 0;    // the band's squared misfit at the repeat's turn (at its median turn for none)
+  double count = 0;  // over this many pairs
+};
+
+// The order of band [a, b): the first deep minimum of its misfit over the turns past the first turn that reaches the
+// median (the start, where a small turn barely moves anything, is no repeat), at a turn within 1.5 steps of 360 / n
+// degrees. Turns where less than a fifth of the band (or 30 samples) pairs are not scored. A band whose median misfit
+// is below `floor2` is plain: no repeat.
+BandRepeat band_repeat(const TurnTable& t, size_t a, size_t b, double step, double floor2) {
+  const double least = std::max(30.0, double(b - a) / 5);
+  std::vector<double> means;
+  for (size_t k = 0; k < t.steps(); ++k)
+    if (t.count(a, b, k) >= least) means.push_back(t.mean(a, b, k));
+  if (means.size() < 5) return {0, 0, 0};
+  std::nth_element(means.begin(), means.begin() + Index(means.size() / 2), means.end());
+  const double median = means[means.size() / 2];
+  const BandRepeat none{0, median * double(b - a), double(b - a)};
+  if (median < floor2) return none;
+  const auto scored = [&](size_t k) { return k < t.steps() && t.count(a, b, k) >= least; };
+  bool started = false;
+  for (size_t k = 0; k < t.steps(); ++k) {
+    if (!scored(k)) continue;
+    const double m = t.mean(a, b, k);
+    if (!started) {
+      started = m >= median;
+      continue;
+    }
+    if (m > kDeep * median || (scored(k + 1) && t.mean(a, b, k + 1) < m)) continue;
+    const double angle = double(k + 1) * step;
+    const int order = int(std::lround(2 * M_PI / angle));
+    if (order < 2 || std::abs(2 * M_PI / order - angle) > 1.5 * step) return none;
+    return {order, m * t.count(a, b, k), t.count(a, b, k)};
+  }
+  return none;
+}
+
+// The exemplar samples scored (an even subsample), sorted by height along the axis, with their heights.
+std::pair<std::vector<Index>, std::vector<double>> by_height(const Eigen::Matrix3Xd& ep, const AxialRepeats& axis) {
+  const Index stride = std::max<Index>(1, (ep.cols() + kMostSamples - 1) / kMostSamples);
+  std::vector<Index> order;
+  for (Index e = 0; e < ep.cols(); e += stride) order.push_back(e);
+  std::vector<double> h(size_t(ep.cols()));
+  for (Index e : order) h[size_t(e)] = axis.direction.dot(ep.col(e) - axis.point);
+  std::stable_sort(order.begin(), order.end(), [&](Index x, Index y) { return h[size_t(x)] < h[size_t(y)]; });
+  std::vector<double> heights;
+  for (Index e : order) heights.push_back(h[size_t(e)]);
+  return {order, heights};
+}
+
+// The RMS distance of the samples from the axis.
+double rms_radius(const Eigen::Matrix3Xd& ep, const std::vector<Index>& samples, const AxialRepeats& axis) {
+  double s = 0;
+  for (Index e : samples) {
+    const Eigen::Vector3d x = ep.col(e) - axis.point;
+    s += (x - axis.direction * axis.direction.dot(x)).squaredNorm();
+  }
+  return std::sqrt(s / double(std::max<size_t>(1, samples.size())));
+}
+
+}  // namespace
+
+std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                          const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                                          double spacing, double limit) {
+  AxialRepeats out;
+  out.point = point;
+  out.direction = direction.normalized();
+  const auto [sorted, h] = by_height(ep, out);
+  const size_t n = sorted.size(), least = std::max<size_t>(60, n / 20);
+  const double radius = out.radius = rms_radius(ep, sorted, out);
+  if (n < 2 * least || !(radius > spacing)) return std::nullopt;
+  const double step = std::max(0.5 * spacing / radius, kMaxTurn / kMostTurns);
+  const TurnTable table(ep, en, sorted, out, step, int(std::ceil(kMaxTurn / step)), limit);
+  const double floor2 = std::pow(0.25 * spacing, 2);
+  // One band, or two of different orders split by a cut (tried every 2 alpha of height). Of those whose turns to their
+  // repeats fit within 1.5 times the best (mean misfit over the bands' pairs), the finest by sample count: the whole
+  // vase, or its lower half with the beads, also repeats every 90 degrees, where flutes and beads both do, but the
+  // labels can reach the repeats of 30 and 22.5 degrees.
+  struct Choice {
+    double cut, score, fineness;
+    std::array<int, 2> order;
+  };
+  std::vector<Choice> choices;
+  const auto add = [&](double cut, const BandRepeat& lo, const BandRepeat& hi, size_t n_lo) {
+    choices.push_back({cut,
+                       (lo.sum + hi.sum) / std::max(1.0, lo.count + hi.count),
+                       double(n_lo) * lo.order + double(n - n_lo) * hi.order,
+                       {lo.order, hi.order}});
+  };
+  const BandRepeat whole = band_repeat(table, 0, n, step, floor2);
+  if (whole.order > 0) add(h.front(), whole, whole, 0);
+  double next_height = h[least];
+  for (size_t cut = least; cut + least <= n; ++cut) {
+    if (h[cut] < next_height) continue;
+    next_height = h[cut] + 2 * spacing;
+    const BandRepeat lo = band_repeat(table, 0, cut, step, floor2), hi = band_repeat(table, cut, n, step, floor2);
+    if (lo.order != hi.order && lo.order > 0 && hi.order > 0) add(h[cut], lo, hi, cut);
+  }
+  if (choices.empty()) return std::nullopt;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Choice& c : choices) best = std::min(best, c.score);
+  const Choice* chosen = nullptr;
+  for (const Choice& c : choices)
+    if (c.score <= 1.5 * best && (!chosen || c.fineness > chosen->fineness)) chosen = &c;
+  out.cut = chosen->cut;
+  out.order = chosen->order;
+  return out;
+}
+
+std::optional<Similarity> turn_to_repeat(const AxialRepeats& r, int order, const Similarity& q, double most,
+                                         double spacing) {
+  if (order < 2 || std::abs(q.scale - 1) > 0.01) return std::nullopt;
+  const Eigen::Vector3d moved = q.apply(r.point) - r.point;  // a turn about the axis keeps its points
+  if (moved.norm() > 0.5 * spacing) return std::nullopt;
+  const double angle = rotation_angle(q.rotation);
+  const double along = rotation_axis(q.rotation).dot(r.direction);
+  if (angle > 1e-9 && std::abs(along) < std::cos(2 * M_PI / 180)) return std::nullopt;  // not about this axis
+  const double theta = along < 0 ? -angle : angle, period = 2 * M_PI / order;
+  const double delta = std::round(theta / period) * period - theta;
+  if (std::abs(delta) * r.radius > most) return std::nullopt;
+  return turn(delta, r.point, r.direction);
+}
+
+}  // namespace scanfill

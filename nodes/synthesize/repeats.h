@@ -1,0 +1,47 @@
+// The exemplar's own repeats about an axis (DESIGN section 9): the turns under which its detail maps onto itself.
+//
+// On a body of revolution the template fixes no phase, and the refinement fits each image's phase to the images
+// placed so far, where they overlap. That overlap can be small or seen at a grazing angle, and detail of two periods
+// (a vase's 12 flutes above its ring of 16 beads) has no one phase that suits both. The exemplar itself says which
+// turns are right: turned by 30 degrees its flutes land on its flutes, by 22.5 degrees its beads on its beads, over
+// most of what it saw. So the exemplar's samples, sorted by height along the axis, are turned by every step up to
+// `max_turn` and scored against the exemplar (point-to-plane, pairs within the limit); a band of heights repeats with
+// order n when its misfit has a deep minimum (at most a quarter of its median over the turns) near 360 / n degrees,
+// the first one past the start. At most one cut across the axis splits two bands of different orders.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "nodes/core/similarity.h"
+
+namespace scanfill {
+
+struct AxialRepeats {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();       // on the axis
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
+  double cut = 0;                                        // height along the axis (from point) between the two bands
+  std::array<int, 2> order{0, 0};                        // per band (below, above the cut): n-fold, 0 = no repeat
+  double radius = 0;                                     // the exemplar's RMS distance from the axis
+};
+
+// The repeats of the exemplar (positions ep, normals en) about the axis through `point` along `direction`. `spacing`
+// is alpha; pairs count within `limit` (model units). None when no band repeats. Deterministic.
+std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                          const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                                          double spacing, double limit);
+
+// The band of a point: 0 below the cut, 1 at or above it.
+inline int band_of(const AxialRepeats& r, const Eigen::Vector3d& p) {
+  return r.direction.dot(p - r.point) >= r.cut ? 1 : 0;
+}
+
+// For an image q of the exemplar that turns it about the axis (a rotation about `direction` within 2 degrees that
+// moves the axis' point by at most half an alpha), the correction c (applied after q) that turns the image to the
+// nearest multiple of 360 / order degrees, if that moves the exemplar's points at its RMS radius at most `most`
+// (model units). None otherwise, or for order 0.
+std::optional<Similarity> turn_to_repeat(const AxialRepeats& r, int order, const Similarity& q, double most,
+                                         double spacing);
+
+}  // namespace scanfill

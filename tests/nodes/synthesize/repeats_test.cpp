@@ -1,0 +1,99 @@
+#include "nodes/synthesize/repeats.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <vector>
+
+#include "nodes/procedural/shapes.h"
+#include "nodes/sample/sample.h"
+
+namespace scanfill {
+namespace {
+
+struct Exemplar {
+  Eigen::Matrix3Xd p, n;
+  double alpha = 0;
+};
+
+// The half y < 0 of `mesh` (a one-sided scan), sampled with `count` points over the whole mesh, and its alpha.
+Exemplar half_of(const PointSet& mesh, Index count) {
+  const PointSet all = random_surface_points(mesh, count, 7);
+  std::vector<Index> half;
+  for (Index i = 0; i < all.size(); ++i)
+    if (all.positions()(1, i) < 0) half.push_back(i);
+  return {all.positions()(Eigen::all, half), all.normals()(Eigen::all, half),
+          std::sqrt(0.64 * surface_area(mesh.positions(), mesh.faces()) / double(count))};
+}
+
+Similarity turn_about_z(double deg) {
+  return {Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero(), 1};
+}
+
+// Half a vase: its ring of 16 beads (z 0.03-0.09) below 12 flutes (which fade out at z 0.12) are two bands of two
+// orders, cut between them.
+TEST(AxialRepeats, FindsAVasesBeadsAndFlutesAsTwoBands) {
+  const Exemplar e = half_of(make_vase(), 32000);
+  const auto r = axial_repeats(e.p, e.n, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), e.alpha, 3 * e.alpha);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->order[0], 16);
+  EXPECT_EQ(r->order[1], 12);
+  EXPECT_GT(r->cut, 0.085);
+  EXPECT_LT(r->cut, 0.16);
+}
+
+// About its axis pointing down, the same vase has the beads above the cut.
+TEST(AxialRepeats, OrdersTheBandsAlongTheAxisDirection) {
+  const Exemplar e = half_of(make_vase(), 32000);
+  const auto r = axial_repeats(e.p, e.n, Eigen::Vector3d(0, 0, 1), -Eigen::Vector3d::UnitZ(), e.alpha, 3 * e.alpha);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->order[0], 12);
+  EXPECT_EQ(r->order[1], 16);
+}
+
+// A gear's 20 teeth: one band.
+TEST(AxialRepeats, FindsAGearsTeethAsOneBand) {
+  const Exemplar e = half_of(make_gear(), 24000);
+  const auto r = axial_repeats(e.p, e.n, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), e.alpha, 3 * e.alpha);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->order[0], 20);
+  EXPECT_EQ(r->order[1], 20);
+}
+
+// A plain body of revolution repeats under every turn: no order; nor does the vase about an axis it is not turned
+// about.
+TEST(AxialRepeats, FindsNoneOnAPlainBodyOrAboutAnotherAxis) {
+  const Exemplar plain = half_of(make_vase_template(), 32000);
+  EXPECT_FALSE(
+      axial_repeats(plain.p, plain.n, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), plain.alpha, 3 * plain.alpha)
+          .has_value());
+  const Exemplar vase = half_of(make_vase(), 32000);
+  EXPECT_FALSE(
+      axial_repeats(vase.p, vase.n, Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d::UnitX(), vase.alpha, 3 * vase.alpha)
+          .has_value());
+}
+
+// An image turned 119.6 degrees goes to 120 for a 12-fold band and to 112.5 for a 16-fold one; turns about another
+// axis, lifts along the axis, and turns past `most` are left alone.
+TEST(TurnToRepeat, TurnsToTheNearestMultipleOfTheOrder) {
+  AxialRepeats r;
+  r.radius = 0.3;
+  const Similarity q = turn_about_z(119.6);
+  const auto to12 = turn_to_repeat(r, 12, q, 1.0, 0.01), to16 = turn_to_repeat(r, 16, q, 1.0, 0.01);
+  ASSERT_TRUE(to12 && to16);
+  EXPECT_NEAR(rotation_angle(to12->compose(q).rotation) * 180 / M_PI, 120.0, 1e-9);
+  EXPECT_NEAR(rotation_angle(to16->compose(q).rotation) * 180 / M_PI, 112.5, 1e-9);
+  EXPECT_LT(to16->compose(q).translation.norm(), 1e-12);  // about the axis through the origin
+  EXPECT_FALSE(turn_to_repeat(r, 0, q, 1.0, 0.01));
+  const Similarity about_x{Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix(), Eigen::Vector3d::Zero(),
+                           1};
+  EXPECT_FALSE(turn_to_repeat(r, 12, about_x, 1.0, 0.01));
+  Similarity lifted = q;
+  lifted.translation.z() = 0.02;
+  EXPECT_FALSE(turn_to_repeat(r, 12, lifted, 1.0, 0.01));
+  EXPECT_FALSE(turn_to_repeat(r, 16, q, 0.3 * 7 * M_PI / 180, 0.01));  // 7.1 degrees at radius 0.3 is too far
+}
+
+}  // namespace
+}  // namespace scanfill
