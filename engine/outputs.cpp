@@ -178,7 +178,8 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"refinement_shift", syn.refinement_shift},
                          {"registration_offset", json_vec(syn.registration_offset)},
                          {"second_phase_deg", syn.second_phase_deg},
-                         {"repeats", repeats_json(syn.repeats)}};
+                         {"repeats", repeats_json(syn.repeats)},
+                         {"repeat_fill", syn.repeat_fill}};
   const CorrespondResult& m = s.correspondence->map;
   report["correspondence"] = {
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},

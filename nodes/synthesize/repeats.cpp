@@ -141,38 +141,42 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   const TurnTable table(ep, en, sorted, out, step, int(std::ceil(kMaxTurn / step)), limit);
   const double floor2 = std::pow(0.25 * spacing, 2);
   // One band, or two of different orders split by a cut (tried every 2 alpha of height). Of those whose turns to their
-  // repeats fit within 1.5 times the best (mean misfit over the bands' pairs), the finest by sample count: the whole
-  // vase, or its lower half with the beads, also repeats every 90 degrees, where flutes and beads both do, but the
+  // repeats fit within 1.5 times the best (mean misfit over the bands' pairs), the one whose coarser band is finest,
+  // then the best fit: the vase's lower half, beads and flutes, also repeats every 90 degrees, where both do, but the
   // labels can reach the repeats of 30 and 22.5 degrees.
   struct Choice {
-    double cut, score, fineness;
+    double cut, score;
     std::array<int, 2> order;
   };
   std::vector<Choice> choices;
-  const auto add = [&](double cut, const BandRepeat& lo, const BandRepeat& hi, size_t n_lo) {
-    choices.push_back({cut,
-                       (lo.sum + hi.sum) / std::max(1.0, lo.count + hi.count),
-                       double(n_lo) * lo.order + double(n - n_lo) * hi.order,
-                       {lo.order, hi.order}});
+  const auto add = [&](double cut, const BandRepeat& lo, const BandRepeat& hi) {
+    choices.push_back({cut, (lo.sum + hi.sum) / std::max(1.0, lo.count + hi.count), {lo.order, hi.order}});
   };
   const BandRepeat whole = band_repeat(table, 0, n, step, floor2);
-  if (whole.order > 0) add(h.front(), whole, whole, 0);
+  if (whole.order > 0) add(h.front(), whole, whole);
   double next_height = h[least];
   for (size_t cut = least; cut + least <= n; ++cut) {
     if (h[cut] < next_height) continue;
     next_height = h[cut] + 2 * spacing;
     const BandRepeat lo = band_repeat(table, 0, cut, step, floor2), hi = band_repeat(table, cut, n, step, floor2);
-    if (lo.order != hi.order && lo.order > 0 && hi.order > 0) add(h[cut], lo, hi, cut);
+    if (lo.order != hi.order && lo.order > 0 && hi.order > 0) add(h[cut], lo, hi);
   }
   if (choices.empty()) return std::nullopt;
   double best = std::numeric_limits<double>::infinity();
   for (const Choice& c : choices) best = std::min(best, c.score);
+  const auto coarser = [](const Choice& c) { return std::min(c.order[0], c.order[1]); };
   const Choice* chosen = nullptr;
   for (const Choice& c : choices)
-    if (c.score <= 1.5 * best && (!chosen || c.fineness > chosen->fineness)) chosen = &c;
+    if (c.score <= 1.5 * best &&
+        (!chosen || coarser(c) > coarser(*chosen) || (coarser(c) == coarser(*chosen) && c.score < chosen->score)))
+      chosen = &c;
   out.cut = chosen->cut;
   out.order = chosen->order;
   return out;
+}
+
+Similarity turn_about(const AxialRepeats& r, double angle) {
+  return turn(angle, r.point, r.direction);
 }
 
 std::optional<Similarity> turn_to_repeat(const AxialRepeats& r, int order, const Similarity& q, double most,

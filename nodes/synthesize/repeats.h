@@ -32,6 +32,9 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
                                           const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                                           double spacing, double limit);
 
+// The turn by `angle` (radians, right-handed about the direction) about the axis.
+Similarity turn_about(const AxialRepeats& r, double angle);
+
 // The band of a point: 0 below the cut, 1 at or above it.
 inline int band_of(const AxialRepeats& r, const Eigen::Vector3d& p) {
   return r.direction.dot(p - r.point) >= r.cut ? 1 : 0;

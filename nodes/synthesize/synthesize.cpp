@@ -9,8 +9,10 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <tuple>
+#include <unordered_map>
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
@@ -812,7 +814,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
     }
     // Completion: the exemplar's own repeats about the axis fix the phase where they are clear.
-    const auto axis = on_template ? turning_axis(slip, out.registration_offset) : std::nullopt;
+    const auto axis = on_template && o.repeats ? turning_axis(slip, out.registration_offset) : std::nullopt;
     const AxialRepeats* r = axis ? repeats.about(axis->first, axis->second) : nullptr;
     const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, o, inv[best], splits[best]) : std::nullopt;
     if (splits[best]) {
@@ -982,6 +984,86 @@ void fill_holes(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eig
   }
 }
 
+// Points kept at least `distance` apart, in a hash grid of cells `distance` wide.
+class SpacedPoints {
+ public:
+  explicit SpacedPoints(double distance) : distance_(distance) {}
+
+  // Keeps p unless a kept point lies within the distance; returns whether it was kept.
+  bool add(const Eigen::Vector3d& p) {
+    const Eigen::Array3i cell = (p.array() / distance_).floor().cast<int>();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+          if (const auto it = cells_.find(key(cell + Eigen::Array3i(dx, dy, dz))); it != cells_.end())
+            for (const Eigen::Vector3d& q : it->second)
+              if ((q - p).squaredNorm() < distance_ * distance_) return false;
+    cells_[key(cell)].push_back(p);
+    return true;
+  }
+
+ private:
+  static std::uint64_t key(const Eigen::Array3i& c) {
+    const auto bits = [](int v) { return std::uint64_t(std::uint32_t(v) & 0x1FFFFFu); };
+    return bits(c.x()) << 42 | bits(c.y()) << 21 | bits(c.z());
+  }
+  double distance_;
+  std::unordered_map<std::uint64_t, std::vector<Eigen::Vector3d>> cells_;
+};
+
+// The label most of the target samples `lands` holds for the exemplar samples `kept` carry (the smallest on a tie).
+int most_common_label(const SynthesisInputs& in, const std::vector<std::int32_t>& lands,
+                      const std::vector<Index>& kept) {
+  std::map<int, Index> count;
+  for (const Index e : kept) ++count[in.labels[size_t(lands[size_t(e)])]];
+  return std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) { return a.second < b.second; })
+      ->first;
+}
+
+// Completion: the exemplar turned to its own repeats fills what neither it nor any image put a point near (within
+// an alpha): the hidden halves of a vase's beads seen from below, which other turns show whole, and the holes its
+// images left. Each band with an order n is turned by k 360 / n degrees (k = 1 .. n - 1), one patch per turn (labelled
+// as the region most of it lands on); a turned sample is added where its source sample lands on the target (within
+// `reach`) and no earlier addition lies within the same alpha.
+void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                     const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
+                     const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
+  const double fill = 1.0 * spacing, reach = o.reach * spacing;
+  const Eigen::Matrix3Xd placed = as_columns(b.p);
+  KdTree placed_tree;
+  placed_tree.build(placed);
+  SpacedPoints added(fill);
+  for (const AxialRepeats& r : b.out.repeats)
+    for (int band = 0; band < 2; ++band)
+      for (int k = 1; k < r.order[size_t(band)]; ++k) {
+        const Similarity turn = turn_about(r, 2 * M_PI * k / r.order[size_t(band)]);
+        const Similarity landing = shifted_by(-offset, turn);
+        std::vector<std::int32_t> lands(size_t(ep.cols()), -1);  // the target sample a candidate lands on
+        tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
+          const auto s = in.exemplar_source[size_t(e)];
+          if (s < 0 || band_of(r, ep.col(e)) != band) return;
+          std::int32_t j;
+          double d2;
+          placed_tree.knn(turn.apply(ep.col(e)), 1, &j, &d2);
+          if (d2 <= fill * fill) return;
+          target_tree.knn(landing.apply(in.source.positions().col(s)), 1, &j, &d2);
+          if (d2 <= reach * reach) lands[size_t(e)] = j;
+        });
+        std::vector<Index> kept;
+        for (Index e = 0; e < ep.cols(); ++e)
+          if (lands[size_t(e)] >= 0 && added.add(turn.apply(ep.col(e)))) kept.push_back(e);
+        if (kept.empty()) continue;
+        const int label = most_common_label(in, lands, kept);
+        const int patch = int(b.out.patches.size());
+        b.out.patches.push_back({label, Origin::kSynthesized, false, turn});
+        for (const Index e : kept) {
+          b.add(turn.apply(ep.col(e)), turn.apply_normal(en.col(e)), Origin::kSynthesized, label, patch, int(e), false);
+          landed.push_back(landing.apply(in.source.positions().col(in.exemplar_source[size_t(e)])));
+        }
+        b.out.repeat_fill += Index(kept.size());
+      }
+}
+
 // Per transform label, the exemplar samples it carries into its region (2) or the region's ring (1) on the target:
 // those whose source sample, carried by the labelled transform, lands within `reach` of a target sample of the region
 // or ring. Membership is the analogy's; the refinement moves only where they land.
@@ -1086,6 +1168,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     }
   }
 
+  if (in.covered && o.repeats) fill_by_repeats(in, ep, en, out.registration_offset, target_tree, spacing, o, landed, b);
   fill_holes(in, ep, en, inverse, out.registration_offset, region_size, target_tree, spacing, o, landed, b);
   const std::vector<std::uint8_t> reached = reached_targets(landed, T, o.gap_distance * spacing);
   const std::vector<std::uint8_t> overlaid = overlaid_targets(

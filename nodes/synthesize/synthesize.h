@@ -55,6 +55,7 @@ struct SynthesisOptions {
   int refine_iterations = 10;     // ICP steps refining each transform against the exemplar's overlapping images; >= 0
   double refine_distance = 3.0;   // ICP pairs closer than this, in alpha; > 0
   double search_distance = 15.0;  // slippable motions are searched this far (alpha) before ICP; >= 0
+  bool repeats = true;            // completion: turn images to the exemplar's own repeats, and fill with its turns
 };
 
 struct Synthesis {
@@ -73,6 +74,7 @@ struct Synthesis {
   Eigen::Vector3d registration_offset = Eigen::Vector3d::Zero();
   std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)
   std::vector<AxialRepeats> repeats;     // completion: the exemplar's repeats about the axes regions turn about
+  Index repeat_fill = 0;                 // samples added by turning the exemplar to its repeats (fill_by_repeats)
 };
 
 struct SynthesisInputs {

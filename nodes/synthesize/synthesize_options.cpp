@@ -4,26 +4,29 @@ namespace scanfill {
 
 OptionTable option_table(SynthesisOptions& sy) {
   using namespace checks;
-  return {"synthesize",
-          "A* = M A M^-1: the exemplar carried by each region's transform",
-          {{"reach", &sy.reach, "a mapped source sample belongs to a region within this many alpha; > 0",
-            positive(&sy.reach)},
-           {"ring_k", &sy.ring_k, "kNN graph defining each region's overlap ring; [0, 32]",
-            range(&sy.ring_k, 0, 32, false, "an integer in [0, 32]")},
-           {"refine_iterations", &sy.refine_iterations,
-            "ICP steps refining each transform against the exemplar's overlapping images (0 = no refinement); >= 0",
-            range(&sy.refine_iterations, 0, 1000, false, "an integer in [0, 1000]")},
-           {"refine_distance", &sy.refine_distance, "refinement pairs closer than this, in alpha; > 0",
-            positive(&sy.refine_distance)},
-           {"search_distance", &sy.search_distance,
-            "each slippable motion of the template is searched this far (alpha) for the exemplar's phase; >= 0",
-            non_negative(&sy.search_distance)},
-           {"gap_distance", &sy.gap_distance,
-            "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
-            positive(&sy.gap_distance)},
-           {"overlay_distance", &sy.overlay_distance,
-            "a target sample with no patch point over it this close across its normal (alpha) is copied; > 0",
-            positive(&sy.overlay_distance)}}};
+  return {
+      "synthesize",
+      "A* = M A M^-1: the exemplar carried by each region's transform",
+      {{"reach", &sy.reach, "a mapped source sample belongs to a region within this many alpha; > 0",
+        positive(&sy.reach)},
+       {"ring_k", &sy.ring_k, "kNN graph defining each region's overlap ring; [0, 32]",
+        range(&sy.ring_k, 0, 32, false, "an integer in [0, 32]")},
+       {"refine_iterations", &sy.refine_iterations,
+        "ICP steps refining each transform against the exemplar's overlapping images (0 = no refinement); >= 0",
+        range(&sy.refine_iterations, 0, 1000, false, "an integer in [0, 1000]")},
+       {"refine_distance", &sy.refine_distance, "refinement pairs closer than this, in alpha; > 0",
+        positive(&sy.refine_distance)},
+       {"search_distance", &sy.search_distance,
+        "each slippable motion of the template is searched this far (alpha) for the exemplar's phase; >= 0",
+        non_negative(&sy.search_distance)},
+       {"repeats", &sy.repeats,
+        "completion: turn each image to the scan's own repeats about the axis, and fill with its turned copies", any()},
+       {"gap_distance", &sy.gap_distance,
+        "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
+        positive(&sy.gap_distance)},
+       {"overlay_distance", &sy.overlay_distance,
+        "a target sample with no patch point over it this close across its normal (alpha) is copied; > 0",
+        positive(&sy.overlay_distance)}}};
 }
 
 }  // namespace scanfill

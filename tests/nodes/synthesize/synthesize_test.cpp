@@ -142,7 +142,8 @@ TEST(KeptPoints, AreTheSynthesisAlignsThinningKeepsInTheOutputFrame) {
 // Completion-mode synthesis of `exemplar` onto `target` (also the source), each target sample labelled by `label_of`
 // with one of `transforms`, none covered: the exemplar itself is the anchor each transform is refined against.
 Synthesis refine_transforms(const PointSet& exemplar, const PointSet& target, const std::vector<Similarity>& transforms,
-                            const std::function<int(const Eigen::Vector3d&)>& label_of, double alpha) {
+                            const std::function<int(const Eigen::Vector3d&)>& label_of, double alpha,
+                            const SynthesisOptions& options = {}) {
   KdTree tree;
   tree.build(target.positions());
   std::vector<std::int32_t> exemplar_source;
@@ -153,7 +154,7 @@ Synthesis refine_transforms(const PointSet& exemplar, const PointSet& target, co
   const std::vector<std::uint8_t> covered(size_t(target.size()), 0);
   return synthesize(
       {exemplar, Similarity{}, exemplar_source, target, target, labels, int(transforms.size()), transforms, &covered},
-      alpha, {});
+      alpha, options);
 }
 
 // As refine_transforms, with every target sample labelled 0 with transform q.
@@ -306,6 +307,56 @@ TEST(SynthesizeRefinement, TurnsEachBandToTheExemplarsOwnRepeats) {
   ASSERT_GT(flutes.size(), 300u);
   EXPECT_LT(median(beads), 0.35);
   EXPECT_LT(median(flutes), 0.35);
+}
+
+// A scan sees the beads of a vase whole only on one side: below z = 0.06 they are cut away over a quarter of the
+// ring (the half y < 0, between 180 and 270 degrees), as the vase's belly hides them from above. No image of the
+// exemplar carries the missing halves there; its own turns by 22.5 degrees do, and they fill them: 90% of the vase's
+// bead points there lie within an alpha of the synthesis (98% measured; 55% without the repeats).
+TEST(SynthesizeRepeats, FillsTheHiddenHalvesOfAVasesBeadsWithItsOwnTurns) {
+  const PointSet vase = make_vase(), plain = make_vase_template();
+  const Index n = 16000;
+  const double alpha = std::sqrt(0.64 * surface_area(vase.positions(), vase.faces()) / double(n));
+  const PointSet all = random_surface_points(vase, 2 * n, 7);
+  const auto hidden = [](const Eigen::Vector3d& p) {  // the beads' lower halves over a quarter of the ring
+    const double angle = std::atan2(p.y(), p.x());
+    return p.z() < 0.06 && p.head<2>().norm() > 0.31 && angle < -M_PI / 2;
+  };
+  std::vector<Index> seen;
+  for (Index i = 0; i < all.size(); ++i)
+    if (all.positions()(1, i) < 0 && !hidden(all.positions().col(i))) seen.push_back(i);
+  PointSet exemplar(all.positions()(Eigen::all, seen));
+  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const auto turn = [](double deg) {
+    return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                      Eigen::Vector3d::Zero(), 1};
+  };
+  const PointSet target = random_surface_points(plain, n, 11), dense = random_surface_points(vase, 400000, 5);
+  const auto share_filled = [&](const Synthesis& syn) {
+    KdTree tree;
+    tree.build(syn.points.positions());
+    Index inside = 0, near = 0;
+    for (Index i = 0; i < dense.size(); ++i) {
+      const Eigen::Vector3d p = dense.positions().col(i);
+      if (p.y() >= 0 || !hidden(p)) continue;
+      std::int32_t j;
+      double d2;
+      tree.knn(p, 1, &j, &d2);
+      ++inside;
+      near += d2 <= alpha * alpha;
+    }
+    return double(near) / double(std::max<Index>(1, inside));
+  };
+  const auto label_of = [](const Eigen::Vector3d& p) { return p.y() < 0 ? 0 : 1; };
+  const Synthesis with = refine_transforms(exemplar, target, {turn(0), turn(180)}, label_of, alpha);
+  SynthesisOptions off;
+  off.repeats = false;
+  const Synthesis without = refine_transforms(exemplar, target, {turn(0), turn(180)}, label_of, alpha, off);
+  std::printf("hidden bead points within an alpha: %.3f with the repeats (%lld added), %.3f without\n",
+              share_filled(with), static_cast<long long>(with.repeat_fill), share_filled(without));
+  EXPECT_GT(with.repeat_fill, 0);
+  EXPECT_GT(share_filled(with), 0.9);
+  EXPECT_LT(share_filled(without), 0.7);
 }
 
 // A one-sided scan of a gear registers towards its teeth, off the plain annulus's axis: the template's turns hold about
