@@ -54,10 +54,9 @@ class TurnTable {
   }
 
   size_t steps() const { return K_; }
+  double sum(size_t a, size_t b, size_t k) const { return sum_[b * K_ + k] - sum_[a * K_ + k]; }
   double count(size_t a, size_t b, size_t k) const { return count_[b * K_ + k] - count_[a * K_ + k]; }
-  double mean(size_t a, size_t b, size_t k) const {
-    return (sum_[b * K_ + k] - sum_[a * K_ + k]) / std::max(1.0, count(a, b, k));
-  }
+  double mean(size_t a, size_t b, size_t k) const { return sum(a, b, k) / std::max(1.0, count(a, b, k)); }
 
  private:
   size_t n_, K_;
@@ -70,36 +69,50 @@ struct BandRepeat {
   double count = 0;  // over this many pairs
 };
 
-// The order of band [a, b): the first deep minimum of its misfit over the turns past the first turn that reaches the
-// median (the start, where a small turn barely moves anything, is no repeat), at a turn within 1.5 steps of 360 / n
-// degrees. Turns where less than a fifth of the band (or 30 samples) pairs are not scored. A band whose median misfit
-// is below `floor2` is plain: no repeat.
+// The order of band [a, b). Past the first turn that reaches the median misfit (a small turn barely moves anything),
+// the first dip deeper than kDeep times the median gives a guess, 360 degrees over its lowest turn; of the three orders
+// nearest it, the one whose turns by multiples of 360 / n (up to the largest turn tried) fit best on average (16
+// flutes, not 17: 21.2 degrees is within a step or two of 22.5, but 5 x 21.2 is far from 5 x 22.5). Turns
+// where less than a fifth of the band (or 30 samples) pairs are not scored. A band whose median misfit is below
+// `floor2` is plain: no repeat.
 BandRepeat band_repeat(const TurnTable& t, size_t a, size_t b, double step, double floor2) {
   const double least = std::max(30.0, double(b - a) / 5);
+  const auto scored = [&](size_t k) { return k < t.steps() && t.count(a, b, k) >= least; };
   std::vector<double> means;
   for (size_t k = 0; k < t.steps(); ++k)
-    if (t.count(a, b, k) >= least) means.push_back(t.mean(a, b, k));
+    if (scored(k)) means.push_back(t.mean(a, b, k));
   if (means.size() < 5) return {0, 0, 0};
   std::nth_element(means.begin(), means.begin() + Index(means.size() / 2), means.end());
-  const double median = means[means.size() / 2];
+  const double median = means[means.size() / 2], deep = kDeep * median;
   const BandRepeat none{0, median * double(b - a), double(b - a)};
   if (median < floor2) return none;
-  const auto scored = [&](size_t k) { return k < t.steps() && t.count(a, b, k) >= least; };
-  bool started = false;
-  for (size_t k = 0; k < t.steps(); ++k) {
+  size_t k = 0;
+  for (bool started = false; k < t.steps(); ++k) {
     if (!scored(k)) continue;
-    const double m = t.mean(a, b, k);
-    if (!started) {
-      started = m >= median;
-      continue;
-    }
-    if (m > kDeep * median || (scored(k + 1) && t.mean(a, b, k + 1) < m)) continue;
-    const double angle = double(k + 1) * step;
-    const int order = int(std::lround(2 * M_PI / angle));
-    if (order < 2 || std::abs(2 * M_PI / order - angle) > 1.5 * step) return none;
-    return {order, m * t.count(a, b, k), t.count(a, b, k)};
+    if (started && t.mean(a, b, k) <= deep) break;
+    started = started || t.mean(a, b, k) >= median;
   }
-  return none;
+  size_t lowest = k;
+  for (; scored(k) && t.mean(a, b, k) <= deep; ++k)
+    if (t.mean(a, b, k) < t.mean(a, b, lowest)) lowest = k;
+  if (lowest >= t.steps()) return none;
+  const int guess = int(std::lround(2 * M_PI / (double(lowest + 1) * step)));
+  BandRepeat best = none;
+  double best_mean = std::numeric_limits<double>::infinity();
+  for (int order = std::max(2, guess - 1); order <= guess + 1; ++order) {
+    double sum = 0, count = 0;
+    for (int j = 1; 2 * M_PI * j / order <= kMaxTurn; ++j) {
+      const long turn_step = std::lround(2 * M_PI * j / order / step) - 1;
+      if (turn_step < 0 || !scored(size_t(turn_step))) continue;
+      sum += t.sum(a, b, size_t(turn_step));
+      count += t.count(a, b, size_t(turn_step));
+    }
+    if (count > 0 && sum / count < best_mean) {
+      best_mean = sum / count;
+      best = {order, sum, count};
+    }
+  }
+  return best;
 }
 
 // The exemplar samples scored (an even subsample), sorted by height along the axis, with their heights.
@@ -140,36 +153,34 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   const double step = std::max(0.5 * spacing / radius, kMaxTurn / kMostTurns);
   const TurnTable table(ep, en, sorted, out, step, int(std::ceil(kMaxTurn / step)), limit);
   const double floor2 = std::pow(0.25 * spacing, 2);
-  // One band, or two of different orders split by a cut (tried every 2 alpha of height). Of those whose turns to their
-  // repeats fit within 1.5 times the best (mean misfit over the bands' pairs), the one whose coarser band is finest,
-  // then the best fit: the vase's lower half, beads and flutes, also repeats every 90 degrees, where both do, but the
-  // labels can reach the repeats of 30 and 22.5 degrees.
+  // One band, or two of different orders split by a cut (tried every 2 alpha of height) that fits at least as well
+  // (mean misfit over the bands' pairs at their repeats): of those, the one whose coarser band is finest, then the best
+  // fit. The vase's lower half, beads and flutes, also repeats every 90 degrees, where both do, and fits that turn
+  // best; but the labels can reach the repeats of 30 and 22.5 degrees.
   struct Choice {
     double cut, score;
     std::array<int, 2> order;
   };
   std::vector<Choice> choices;
-  const auto add = [&](double cut, const BandRepeat& lo, const BandRepeat& hi) {
-    choices.push_back({cut, (lo.sum + hi.sum) / std::max(1.0, lo.count + hi.count), {lo.order, hi.order}});
+  const auto score = [](const BandRepeat& lo, const BandRepeat& hi) {
+    return (lo.sum + hi.sum) / std::max(1.0, lo.count + hi.count);
   };
   const BandRepeat whole = band_repeat(table, 0, n, step, floor2);
-  if (whole.order > 0) add(h.front(), whole, whole);
+  if (whole.order > 0) choices.push_back({h.front(), score(whole, whole), {whole.order, whole.order}});
+  const double most = whole.order > 0 ? choices.front().score : std::numeric_limits<double>::infinity();
   double next_height = h[least];
   for (size_t cut = least; cut + least <= n; ++cut) {
     if (h[cut] < next_height) continue;
     next_height = h[cut] + 2 * spacing;
     const BandRepeat lo = band_repeat(table, 0, cut, step, floor2), hi = band_repeat(table, cut, n, step, floor2);
-    if (lo.order != hi.order && lo.order > 0 && hi.order > 0) add(h[cut], lo, hi);
+    if (lo.order != hi.order && lo.order > 0 && hi.order > 0 && score(lo, hi) <= most)
+      choices.push_back({h[cut], score(lo, hi), {lo.order, hi.order}});
   }
   if (choices.empty()) return std::nullopt;
-  double best = std::numeric_limits<double>::infinity();
-  for (const Choice& c : choices) best = std::min(best, c.score);
   const auto coarser = [](const Choice& c) { return std::min(c.order[0], c.order[1]); };
-  const Choice* chosen = nullptr;
+  const Choice* chosen = &choices.front();
   for (const Choice& c : choices)
-    if (c.score <= 1.5 * best &&
-        (!chosen || coarser(c) > coarser(*chosen) || (coarser(c) == coarser(*chosen) && c.score < chosen->score)))
-      chosen = &c;
+    if (coarser(c) > coarser(*chosen) || (coarser(c) == coarser(*chosen) && c.score < chosen->score)) chosen = &c;
   out.cut = chosen->cut;
   out.order = chosen->order;
   return out;
