@@ -53,8 +53,10 @@ nlohmann::json solver_json(const SolverSummary& s) {
 nlohmann::json repeats_json(const std::vector<AxialRepeats>& repeats) {
   nlohmann::json out = nlohmann::json::array();
   for (const AxialRepeats& r : repeats)
-    out.push_back({{"point", json_vec(r.point)},
-                   {"direction", json_vec(r.direction)},
+    out.push_back({{"point", json_vec(r.part.point)},
+                   {"direction", json_vec(r.part.direction)},
+                   {"part_radius", std::isfinite(r.part.radius) ? nlohmann::json(r.part.radius) : nlohmann::json()},
+                   {"revolution", r.continuous},
                    {"cut_height", r.cut},
                    {"order_below_cut", r.order[0]},
                    {"order_above_cut", r.order[1]}});

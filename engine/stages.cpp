@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "engine/console.h"
@@ -423,6 +424,26 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
   });
 }
 
+// The template's axes of revolution, for synthesize's fill by turns: its own (unbounded) and each part's (a leg: the
+// part's samples' reach from its axis and their heights, 3 alpha wider).
+std::vector<TurningPart> turning_parts(const SymmetryResult& target, const PointSet& samples, double spacing) {
+  std::vector<TurningPart> out;
+  if (target.continuous) out.push_back({target.continuous->centre, target.continuous->direction.normalized()});
+  for (const PartSymmetry& p : target.parts) {
+    TurningPart part{p.axis.centre, p.axis.direction.normalized(), 0, std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity()};
+    for (const std::int32_t i : p.samples) {
+      const Eigen::Vector3d x = samples.positions().col(i) - part.point;
+      const double h = part.direction.dot(x);
+      part.radius = std::max(part.radius, (x - part.direction * h).norm() + 3 * spacing);
+      part.low = std::min(part.low, h - 3 * spacing);
+      part.high = std::max(part.high, h + 3 * spacing);
+    }
+    out.push_back(part);
+  }
+  return out;
+}
+
 SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& correspondence, const LabelledPtr& analogy,
                                 const CoveragePtr& coverage) {
   return run_node(state, "synthesize", "", [&](const ProgressFn&) {
@@ -433,6 +454,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
     const Votes& v = analogy->votes();
     std::vector<Similarity> transforms;
     for (const auto& t : analogy->supports->support.transforms) transforms.push_back(t.transform);
+    const std::vector<TurningPart> parts =
+        turning_parts(v.symmetries->target_symmetry, v.target()->features.points, v.spacing());
     const CorrespondResult& map = correspondence->map;
     const SynthesisInputs in{correspondence->exemplar->features.points,
                              map.rigid,
@@ -442,7 +465,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              analogy->labels.labels,
                              analogy->labels.self_label,
                              transforms,
-                             coverage ? &coverage->cover.covered : nullptr};
+                             coverage ? &coverage->cover.covered : nullptr,
+                             &parts};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];

@@ -12,32 +12,49 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <optional>
 
 #include "nodes/core/similarity.h"
 
 namespace scanfill {
 
-struct AxialRepeats {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();       // on the axis
+// An axis, and the part of space about it that turns (a table's leg): within `radius` of it, between heights `low` and
+// `high` along it (from `point`). Unbounded by default: the whole shape.
+struct TurningPart {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
-  double cut = 0;                                        // height along the axis (from point) between the two bands
-  std::array<int, 2> order{0, 0};                        // per band (below, above the cut): n-fold, 0 = no repeat
-  double radius = 0;                                     // the exemplar's RMS distance from the axis
+  double radius = std::numeric_limits<double>::infinity();
+  double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
+
+  bool contains(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d x = p - point;
+    const double h = direction.dot(x);
+    return h >= low && h <= high && (x - direction * h).squaredNorm() <= radius * radius;
+  }
 };
 
-// The repeats of the exemplar (positions ep, normals en) about the axis through `point` along `direction`. `spacing`
-// is alpha; pairs count within `limit` (model units). None when no band repeats. Deterministic.
+struct AxialRepeats {
+  TurningPart part;                // the axis (point, direction) and the exemplar's part that turns about it
+  double cut = 0;                  // height along the axis (from point) between the two bands
+  std::array<int, 2> order{0, 0};  // per band (below, above the cut): n-fold, 0 = no repeat
+  bool continuous = false;         // the part is a body of revolution: every turn tried fits (orders 0, one band)
+  double radius = 0;               // the part's RMS distance from the axis
+};
+
+// The repeats of the exemplar's samples in `part` (positions ep, normals en) about its axis, against the whole
+// exemplar. `spacing` is alpha; pairs count within `limit` (model units). None when no band repeats and the part is
+// not a body of revolution (at least 5 turns scored, each with a mean misfit under a quarter alpha squared).
+// Deterministic.
 std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
-                                          const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
-                                          double spacing, double limit);
+                                          const TurningPart& part, double spacing, double limit);
 
 // The turn by `angle` (radians, right-handed about the direction) about the axis.
 Similarity turn_about(const AxialRepeats& r, double angle);
 
 // The band of a point: 0 below the cut, 1 at or above it.
 inline int band_of(const AxialRepeats& r, const Eigen::Vector3d& p) {
-  return r.direction.dot(p - r.point) >= r.cut ? 1 : 0;
+  return r.part.direction.dot(p - r.part.point) >= r.cut ? 1 : 0;
 }
 
 // For an image q of the exemplar that turns it about the axis (a rotation about `direction` within 2 degrees that

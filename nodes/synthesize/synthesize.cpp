@@ -519,14 +519,15 @@ class RepeatsByAxis {
   RepeatsByAxis(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, double spacing, double limit)
       : ep_(ep), en_(en), spacing_(spacing), limit_(limit) {}
 
-  const AxialRepeats* about(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
+  // The repeats about part's axis; an axis found before (with any extent) is not searched again.
+  const AxialRepeats* about(const TurningPart& part) {
     for (const Entry& e : found_) {
-      const Eigen::Vector3d x = point - e.point;
-      if (std::abs(e.direction.dot(direction)) >= std::cos(M_PI / 180) &&
+      const Eigen::Vector3d x = part.point - e.point;
+      if (std::abs(e.direction.dot(part.direction)) >= std::cos(M_PI / 180) &&
           (x - e.direction * e.direction.dot(x)).norm() <= 0.5 * spacing_)
         return e.repeats ? &*e.repeats : nullptr;
     }
-    found_.push_back({point, direction, axial_repeats(ep_, en_, point, direction, spacing_, limit_)});
+    found_.push_back({part.point, part.direction, axial_repeats(ep_, en_, part, spacing_, limit_)});
     return found_.back().repeats ? &*found_.back().repeats : nullptr;
   }
 
@@ -780,7 +781,8 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
             const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
             const std::vector<Slippage>& slips, std::vector<Similarity>& inv,
-            std::vector<std::optional<PhaseSplit>>& splits, Synthesis& out) {
+            std::vector<std::optional<PhaseSplit>>& splits, const std::vector<TurningPart>* turning_parts,
+            Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -815,7 +817,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     }
     // Completion: the exemplar's own repeats about the axis fix the phase where they are clear.
     const auto axis = on_template && o.repeats ? turning_axis(slip, out.registration_offset) : std::nullopt;
-    const AxialRepeats* r = axis ? repeats.about(axis->first, axis->second) : nullptr;
+    const AxialRepeats* r = axis ? repeats.about({axis->first, axis->second}) : nullptr;
     const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, o, inv[best], splits[best]) : std::nullopt;
     if (splits[best]) {
       const auto& inv2 = splits[best]->inv;
@@ -829,6 +831,11 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     else
       placed.place(inv[best]);
   }
+  if (on_template && o.repeats && turning_parts)
+    for (TurningPart part : *turning_parts) {  // the template's own axes: a body of revolution, a table's legs
+      part.point += out.registration_offset;
+      repeats.about(part);
+    }
   out.repeats = repeats.repeats();
 }
 
@@ -984,6 +991,8 @@ void fill_holes(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eig
   }
 }
 
+constexpr int kRevolutionTurns = 8;  // a body of revolution fills with its turns by multiples of 45 degrees
+
 // Points kept at least `distance` apart, in a hash grid of cells `distance` wide.
 class SpacedPoints {
  public:
@@ -1034,14 +1043,15 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
   placed_tree.build(placed);
   SpacedPoints added(fill);
   for (const AxialRepeats& r : b.out.repeats)
-    for (int band = 0; band < 2; ++band)
-      for (int k = 1; k < r.order[size_t(band)]; ++k) {
-        const Similarity turn = turn_about(r, 2 * M_PI * k / r.order[size_t(band)]);
+    for (int band = 0; band < 2; ++band) {
+      const int turns = r.continuous ? (band == 1 ? kRevolutionTurns : 0) : r.order[size_t(band)];
+      for (int k = 1; k < turns; ++k) {
+        const Similarity turn = turn_about(r, 2 * M_PI * k / turns);
         const Similarity landing = shifted_by(-offset, turn);
         std::vector<std::int32_t> lands(size_t(ep.cols()), -1);  // the target sample a candidate lands on
         tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
           const auto s = in.exemplar_source[size_t(e)];
-          if (s < 0 || band_of(r, ep.col(e)) != band) return;
+          if (s < 0 || band_of(r, ep.col(e)) != band || !r.part.contains(ep.col(e))) return;
           std::int32_t j;
           double d2;
           placed_tree.knn(turn.apply(ep.col(e)), 1, &j, &d2);
@@ -1062,6 +1072,7 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
         }
         b.out.repeat_fill += Index(kept.size());
       }
+    }
 }
 
 // Per transform label, the exemplar samples it carries into its region (2) or the region's ring (1) on the target:
@@ -1145,7 +1156,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
       slips[l] = image_slippage(in, labelled_inverse[l], target_tree, spacing * o.reach, int(l), on_template[l]);
   const Eigen::Matrix3Xd relief = in.covered ? relief_directions(ep, en, T, target_tree) : Eigen::Matrix3Xd(3, 0);
   refine(ep, en, region_size, used, in.covered ? &on_template : nullptr, relief, spacing, o, slips, inverse, splits,
-         out);
+         in.turning_parts, out);
   // Per synthesised sample: where its source sample lands on the target. The images sit the exemplar's registration
   // offset d off the template (the exemplar does), and a source sample lies on its exemplar sample up to relief (the
   // correspondence deforms the template onto the scan): so in the template's frame, each transform followed by -d.

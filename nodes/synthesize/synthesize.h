@@ -87,6 +87,8 @@ struct SynthesisInputs {
   int self_label = 0;
   const std::vector<Similarity>& transforms;           // per transform label: Q_l, target -> source
   const std::vector<std::uint8_t>* covered = nullptr;  // completion: target samples the scan covers; else null
+  // Completion: the template's axes of revolution (its own, its parts': a table's legs), whose turns may fill.
+  const std::vector<TurningPart>* turning_parts = nullptr;
 };
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);
