@@ -190,43 +190,61 @@ TEST(SynthesizeRefinement, TurnsAFlutedColumnsImageBackOntoItsFlutesAboutTheAxis
   EXPECT_LT(syn.refinement_shift[0], 0.2 * alpha);  // a turn about the axis itself (x = y = 0)
 }
 
-// A vase's 12 flutes and its ring of 16 beads (below them) repeat with different periods: a turn of 60 degrees about
-// its axis carries flutes onto flutes but beads halfway between beads (60 = 2 x 30 = 2.67 x 22.5). The image of half
-// the vase under that turn, fitted to the half itself, takes one phase for the flutes, which cover most of it, and a
-// second one for the band of beads: the synthesised beads lie on the vase's beads (median distance 0.14 alpha;
-// 1.35 alpha with one phase for the whole image), and the flutes on its flutes.
-TEST(SynthesizeRefinement, GivesTheBeadsBelowAVasesFlutesAPhaseOfTheirOwn) {
-  const PointSet vase = make_vase(), plain = make_vase_template();
-  const Index n = 16000;
-  const double alpha = std::sqrt(0.64 * surface_area(vase.positions(), vase.faces()) / double(n));
-  const PointSet all = random_surface_points(vase, 2 * n, 7);
+// Half a vase (y < 0: a one-sided scan), from 2 n random points over the whole vase, with normals.
+PointSet half_vase(Index n) {
+  const PointSet all = random_surface_points(make_vase(), 2 * n, 7);
   std::vector<Index> half;
   for (Index i = 0; i < all.size(); ++i)
     if (all.positions()(1, i) < 0) half.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, half));
-  exemplar.set_normals(all.normals()(Eigen::all, half));
-  const Similarity q{Eigen::AngleAxisd(60 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
-                     Eigen::Vector3d::Zero(), 1};
-  const Synthesis syn = refine_one_transform(exemplar, random_surface_points(plain, n, 11), q, alpha);
+  PointSet out(all.positions()(Eigen::all, half));
+  out.set_normals(all.normals()(Eigen::all, half));
+  return out;
+}
+
+// The synthesised points of `label` (any label: -2) that are detail (more than half an alpha off the plain body), by
+// height: beads below z = 0.1, flutes above; each as its distance to the vase, in alpha.
+struct VaseDetail {
+  std::vector<double> beads, flutes;
+};
+VaseDetail vase_detail(const Synthesis& syn, double alpha, int label) {
   KdTree truth, body;
-  const PointSet dense = random_surface_points(vase, 400000, 5), dense_plain = random_surface_points(plain, 400000, 5);
+  const PointSet dense = random_surface_points(make_vase(), 400000, 5);
+  const PointSet dense_plain = random_surface_points(make_vase_template(), 400000, 5);
   truth.build(dense.positions());
   body.build(dense_plain.positions());
-  std::vector<double> beads, flutes;  // synthesised detail (off the plain body) by height: distance to the vase
+  VaseDetail out;
   for (Index i = 0; i < syn.points.size(); ++i) {
-    if (syn.origin[size_t(i)] != Origin::kSynthesized) continue;
+    if (syn.origin[size_t(i)] != Origin::kSynthesized || (label != -2 && syn.label[size_t(i)] != label)) continue;
     const Eigen::Vector3d p = syn.points.positions().col(i);
     std::int32_t j;
     double d2;
     body.knn(p, 1, &j, &d2);
     if (d2 < std::pow(0.5 * alpha, 2)) continue;
     truth.knn(p, 1, &j, &d2);
-    (p.z() < 0.1 ? beads : flutes).push_back(std::sqrt(d2) / alpha);
+    (p.z() < 0.1 ? out.beads : out.flutes).push_back(std::sqrt(d2) / alpha);
   }
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// A vase's 12 flutes and its ring of 16 beads (below them) repeat with different periods: a turn of 60 degrees about
+// its axis carries flutes onto flutes but beads halfway between beads (60 = 2 x 30 = 2.67 x 22.5). The image of half
+// the vase under that turn, fitted to the half itself, takes one phase for the flutes, which cover most of it, and a
+// second one for the band of beads: the synthesised beads lie on the vase's beads (median distance 0.14 alpha;
+// 1.35 alpha with one phase for the whole image), and the flutes on its flutes.
+TEST(SynthesizeRefinement, GivesTheBeadsBelowAVasesFlutesAPhaseOfTheirOwn) {
+  const PointSet vase = make_vase();
+  const Index n = 16000;
+  const double alpha = std::sqrt(0.64 * surface_area(vase.positions(), vase.faces()) / double(n));
+  const Similarity q{Eigen::AngleAxisd(60 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                     Eigen::Vector3d::Zero(), 1};
+  const Synthesis syn =
+      refine_one_transform(half_vase(n), random_surface_points(make_vase_template(), n, 11), q, alpha);
+  const auto [beads, flutes] = vase_detail(syn, alpha, -2);
   std::printf("beads: %zu points, median distance %.3f alpha; flutes: %zu points, %.3f alpha; %zu patches\n",
               beads.size(), median(beads), flutes.size(), median(flutes), syn.patches.size());
   ASSERT_GT(beads.size(), 500u);
@@ -264,43 +282,19 @@ double ninetieth_percentile(std::vector<double> v) {
 // 10): one phase left the synthesised beads 1.28 alpha (median) off the vase. The half repeats every 22.5 degrees
 // below z = 0.1 and every 30 above, so the beads turn to 112.5 degrees and the flutes stay at 120.
 TEST(SynthesizeRefinement, TurnsEachBandToTheExemplarsOwnRepeats) {
-  const PointSet vase = make_vase(), plain = make_vase_template();
+  const PointSet vase = make_vase();
   const Index n = 16000;
   const double alpha = std::sqrt(0.64 * surface_area(vase.positions(), vase.faces()) / double(n));
-  const PointSet all = random_surface_points(vase, 2 * n, 7);
-  std::vector<Index> half;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(1, i) < 0) half.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, half));
-  exemplar.set_normals(all.normals()(Eigen::all, half));
   const auto turn = [](double deg) {
     return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
                       Eigen::Vector3d::Zero(), 1};
   };
   const Synthesis syn = refine_transforms(
-      exemplar, random_surface_points(plain, n, 11), {turn(0), turn(121)},
+      half_vase(n), random_surface_points(make_vase_template(), n, 11), {turn(0), turn(121)},
       [](const Eigen::Vector3d& p) { return p.y() < 0 ? 0 : 1; }, alpha);
   ASSERT_EQ(syn.repeats.size(), 1u);
   EXPECT_EQ(syn.repeats[0].order[0] + syn.repeats[0].order[1], 28);  // 16 and 12, in the order of the axis found
-  KdTree truth, body;
-  const PointSet dense = random_surface_points(vase, 400000, 5), dense_plain = random_surface_points(plain, 400000, 5);
-  truth.build(dense.positions());
-  body.build(dense_plain.positions());
-  std::vector<double> beads, flutes;  // label 1's synthesised detail (off the plain body): distance to the vase
-  for (Index i = 0; i < syn.points.size(); ++i) {
-    if (syn.origin[size_t(i)] != Origin::kSynthesized || syn.label[size_t(i)] != 1) continue;
-    const Eigen::Vector3d p = syn.points.positions().col(i);
-    std::int32_t j;
-    double d2;
-    body.knn(p, 1, &j, &d2);
-    if (d2 < std::pow(0.5 * alpha, 2)) continue;
-    truth.knn(p, 1, &j, &d2);
-    (p.z() < 0.1 ? beads : flutes).push_back(std::sqrt(d2) / alpha);
-  }
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
+  const auto [beads, flutes] = vase_detail(syn, alpha, 1);           // label 1's
   std::printf("beads: %zu points, median distance %.3f alpha; flutes: %zu points, %.3f alpha\n", beads.size(),
               median(beads), flutes.size(), median(flutes));
   ASSERT_GT(beads.size(), 300u);
