@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 #include "engine/console.h"
@@ -429,18 +428,8 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
 std::vector<TurningPart> turning_parts(const SymmetryResult& target, const PointSet& samples, double spacing) {
   std::vector<TurningPart> out;
   if (target.continuous) out.push_back({target.continuous->centre, target.continuous->direction.normalized()});
-  for (const PartSymmetry& p : target.parts) {
-    TurningPart part{p.axis.centre, p.axis.direction.normalized(), 0, std::numeric_limits<double>::infinity(),
-                     -std::numeric_limits<double>::infinity()};
-    for (const std::int32_t i : p.samples) {
-      const Eigen::Vector3d x = samples.positions().col(i) - part.point;
-      const double h = part.direction.dot(x);
-      part.radius = std::max(part.radius, (x - part.direction * h).norm() + 3 * spacing);
-      part.low = std::min(part.low, h - 3 * spacing);
-      part.high = std::max(part.high, h + 3 * spacing);
-    }
-    out.push_back(part);
-  }
+  for (const PartSymmetry& p : target.parts)
+    out.push_back(part_holding(p.axis.centre, p.axis.direction, samples.positions(), p.samples, 3 * spacing));
   return out;
 }
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
+#include <optional>
 #include <vector>
 
 #include "nodes/core/kdtree.h"
@@ -25,25 +25,32 @@ Similarity turn(double angle, const Eigen::Vector3d& point, const Eigen::Vector3
   return Similarity{R, point - R * point, 1.0};
 }
 
+// The point-to-plane distance of x from the exemplar sample nearest it (`tree` holds ep), if that lies within the
+// limit.
+std::optional<double> plane_distance(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                     const Eigen::Vector3d& x, double limit) {
+  std::int32_t j;
+  double d2;
+  tree.knn(x, 1, &j, &d2);
+  if (d2 > limit * limit) return std::nullopt;
+  return (x - ep.col(j)).dot(en.col(j));
+}
+
 // The squared point-to-plane misfit of samples (sorted by height) turned by each step k (a turn of (k + 1) steps)
 // against the exemplar, over pairs within the limit, as prefix sums over the samples: any band [a, b) scores at any
 // step in O(1).
 class TurnTable {
  public:
-  TurnTable(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& sorted,
-            const AxialRepeats& axis, double step, int steps, double limit)
+  TurnTable(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+            const std::vector<Index>& sorted, const AxialRepeats& axis, double step, int steps, double limit)
       : n_(sorted.size()), K_(size_t(steps)), sum_((n_ + 1) * K_, 0.0), count_((n_ + 1) * K_, 0.0) {
-    KdTree tree;
-    tree.build(ep);
+    std::vector<Similarity> turns;
+    for (size_t k = 0; k < K_; ++k) turns.push_back(turn(double(k + 1) * step, axis.part.point, axis.part.direction));
     std::vector<float> r2(n_ * K_);  // sample-major: each sample's turns in one task
     tbb::parallel_for(size_t(0), n_, [&](size_t i) {
       for (size_t k = 0; k < K_; ++k) {
-        const Eigen::Vector3d x =
-            turn(double(k + 1) * step, axis.part.point, axis.part.direction).apply(ep.col(sorted[i]));
-        std::int32_t j;
-        double d2;
-        tree.knn(x, 1, &j, &d2);
-        r2[i * K_ + k] = d2 <= limit * limit ? float(std::pow((x - ep.col(j)).dot(en.col(j)), 2)) : -1.0f;
+        const auto d = plane_distance(tree, ep, en, turns[k].apply(ep.col(sorted[i])), limit);
+        r2[i * K_ + k] = d ? float(std::pow(*d, 2)) : -1.0f;
       }
     });
     for (size_t i = 0; i < n_; ++i)
@@ -123,13 +130,8 @@ std::pair<double, size_t> median_misfit(const KdTree& tree, const Eigen::Matrix3
                                         const Eigen::Vector3d& direction, double angle, double limit) {
   const Similarity q = turn(angle, point, direction);
   std::vector<double> r;
-  for (const Index e : samples) {
-    const Eigen::Vector3d x = q.apply(ep.col(e));
-    std::int32_t j;
-    double d2;
-    tree.knn(x, 1, &j, &d2);
-    if (d2 <= limit * limit) r.push_back(std::abs((x - ep.col(j)).dot(en.col(j))));
-  }
+  for (const Index e : samples)
+    if (const auto d = plane_distance(tree, ep, en, q.apply(ep.col(e)), limit)) r.push_back(std::abs(*d));
   if (r.empty()) return {std::numeric_limits<double>::infinity(), 0};
   std::nth_element(r.begin(), r.begin() + Index(r.size() / 2), r.end());
   return {r[r.size() / 2], r.size()};
@@ -140,11 +142,9 @@ std::pair<double, size_t> median_misfit(const KdTree& tree, const Eigen::Matrix3
 // best (the median misfit: its foot and its top meet the floor and the table top): the template's leg axis was 4 mm
 // off its scan's. About that axis every turn by 15 .. 120 degrees that pairs at least a fifth of the samples (at least
 // 5 of the 8 must) leaves a median misfit under 0.35 alpha; a turn of the vase's flutes leaves a groove's depth.
-std::optional<AxialRepeats> revolution_about(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+std::optional<AxialRepeats> revolution_about(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                                              const std::vector<Index>& sorted, AxialRepeats out, double spacing,
                                              double limit) {
-  KdTree tree;
-  tree.build(ep);
   std::vector<Index> samples;
   for (size_t i = 0; i < sorted.size(); i += std::max<size_t>(1, sorted.size() / 1000)) samples.push_back(sorted[i]);
   const Eigen::Vector3d a = out.part.direction;
@@ -213,7 +213,9 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   const double radius = out.radius = rms_radius(ep, sorted, out);
   if (n < 2 * least || !(radius > spacing)) return std::nullopt;
   const double step = std::max(0.5 * spacing / radius, kMaxTurn / kMostTurns);
-  const TurnTable table(ep, en, sorted, out, step, int(std::ceil(kMaxTurn / step)), limit);
+  KdTree tree;  // the exemplar, which every turn is scored against
+  tree.build(ep);
+  const TurnTable table(tree, ep, en, sorted, out, step, int(std::ceil(kMaxTurn / step)), limit);
   const double floor2 = std::pow(0.25 * spacing, 2);
   // One band, or two of different orders split by a cut (tried every 2 alpha of height) that fits at least as well
   // (mean misfit over the bands' pairs at their repeats): of those, the one whose coarser band is finest, then the best
@@ -240,7 +242,7 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   }
   out.cut = h.front();
   if (choices.empty())
-    return std::isfinite(part.radius) ? revolution_about(ep, en, sorted, out, spacing, limit) : std::nullopt;
+    return std::isfinite(part.radius) ? revolution_about(tree, ep, en, sorted, out, spacing, limit) : std::nullopt;
   const auto coarser = [](const Choice& c) { return std::min(c.order[0], c.order[1]); };
   const Choice* chosen = &choices.front();
   for (const Choice& c : choices)
@@ -248,6 +250,20 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   out.cut = chosen->cut;
   out.order = chosen->order;
   return out;
+}
+
+TurningPart part_holding(const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                         const Eigen::Matrix3Xd& positions, const std::vector<std::int32_t>& samples, double margin) {
+  TurningPart part{point, direction.normalized(), 0, std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity()};
+  for (const std::int32_t i : samples) {
+    const Eigen::Vector3d x = positions.col(i) - part.point;
+    const double h = part.direction.dot(x);
+    part.radius = std::max(part.radius, (x - part.direction * h).norm() + margin);
+    part.low = std::min(part.low, h - margin);
+    part.high = std::max(part.high, h + margin);
+  }
+  return part;
 }
 
 Similarity turn_about(const AxialRepeats& r, double angle) {

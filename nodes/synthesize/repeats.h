@@ -12,8 +12,10 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "nodes/core/similarity.h"
 
@@ -33,6 +35,11 @@ struct TurningPart {
     return h >= low && h <= high && (x - direction * h).squaredNorm() <= radius * radius;
   }
 };
+
+// The part about the axis through `point` along `direction` that holds `samples` (columns of `positions`): their
+// largest distance from the axis and their range of heights along it, `margin` wider each way.
+TurningPart part_holding(const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                         const Eigen::Matrix3Xd& positions, const std::vector<std::int32_t>& samples, double margin);
 
 struct AxialRepeats {
   TurningPart part;                // the axis (point, direction) and the exemplar's part that turns about it
