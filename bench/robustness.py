@@ -8,7 +8,10 @@ scored against the styled target. Prints one JSON line per run and, at the end, 
 median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
-                                      [--set KEY=VALUE]...
+                                      [--set KEY=VALUE]... [--check-floors]
+
+With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
+each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
 
 Needs ../shared/data for the real cases (skipped with a message when absent).
 """
@@ -50,6 +53,12 @@ REAL_Y_UP = [
     ("real y-up: candle (text2mesh)", "text2mesh_candle.obj", "revolution:"),
     ("real y-up: square pillar (3D scan, box template)", "threedscans_Column03.obj", "box:"),
 ]
+
+# Issue 10's floors, per shape: on the procedural shapes (completions and two-body transfers) F@1% >= 0.95 on every
+# run, unseen-detail median >= 0.85 and minimum >= 0.6, and every run above template blending on both numbers. The
+# Vase-Lion has a regression floor on its means (the issue asks 0.8 / 0.5; measured 0.626 / 0.329 at stop 28).
+FLOORS = {"f_min": 0.95, "unseen_median": 0.85, "unseen_min": 0.6}
+REGRESSION_MEANS = {"real: Vase-Lion": {"f": 0.60, "unseen": 0.30}}
 
 # (shape, source, target, exemplar, styled target)
 TRANSFERS = [
@@ -137,6 +146,50 @@ def score(exe, out_dir, eval_args, threads):
     return row
 
 
+def procedural_shapes():
+    return [c[0] for c in COMPLETIONS] + [t[0] for t in TRANSFERS]
+
+
+def shortfalls_of_procedural(shape, rs):
+    out = []
+    for r in rs:
+        if r["f"] < FLOORS["f_min"]:
+            out.append(f"{r['case']}: F {r['f']:.3f} < {FLOORS['f_min']}")
+        for k in ("f", "unseen"):
+            blend = r.get("template_blend_" + k)
+            if blend is not None and not (r[k] or 0) > blend:
+                out.append(f"{r['case']}: {k} {r[k] or 0:.3f} not above template blending's {blend:.3f}")
+    unseen = [r["unseen"] or 0 for r in rs]
+    if statistics.median(unseen) < FLOORS["unseen_median"]:
+        out.append(f"{shape}: median unseen-detail {statistics.median(unseen):.3f} < {FLOORS['unseen_median']}")
+    if min(unseen) < FLOORS["unseen_min"]:
+        out.append(f"{shape}: min unseen-detail {min(unseen):.3f} < {FLOORS['unseen_min']}")
+    return out
+
+
+def shortfalls_of_means(shape, rs, floors):
+    out = []
+    for k, floor in floors.items():
+        mean = statistics.mean(r[k] or 0 for r in rs)
+        if mean < floor:
+            out.append(f"{shape}: mean {k} {mean:.3f} < regression floor {floor}")
+    return out
+
+
+def floor_shortfalls(rows):
+    """Every run that failed, and every shape of the sweep below its floors (FLOORS, REGRESSION_MEANS)."""
+    out = [f"{r['case']}: failed: {r['error']}" for r in rows if "error" in r]
+    for shape in dict.fromkeys(r["shape"] for r in rows):
+        rs = [r for r in rows if r["shape"] == shape and "error" not in r]
+        if not rs:
+            continue
+        if shape in procedural_shapes():
+            out += shortfalls_of_procedural(shape, rs)
+        elif shape in REGRESSION_MEANS:
+            out += shortfalls_of_means(shape, rs, REGRESSION_MEANS[shape])
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build")
@@ -147,6 +200,7 @@ def main():
     ap.add_argument("--preset", default="scanfill", help="the config's preset key (scanfill or paper)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="override a config key in every run (scanfill --set), repeatable")
+    ap.add_argument("--check-floors", action="store_true", help="exit 1 when a shape is below its floors (FLOORS)")
     ap.add_argument("--run-binary", default="", help="another scanfill for the main run (e.g. an older build to compare)")
     args = ap.parse_args()
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
@@ -174,6 +228,8 @@ def main():
         label = " | ".join(str(x) for x in case[1:-1 if case[0] == "completion" else None]
                            if not str(x).startswith("/"))
         if args.only and not any(o in label for o in args.only.split(",")):
+            continue
+        if args.check_floors and case[1] not in procedural_shapes() and case[1] not in REGRESSION_MEANS:
             continue
         t0 = time.time()
         try:
@@ -211,6 +267,13 @@ def main():
         print(f"| {shape} | {len(rs)}{f' (+{errors} failed)' if errors else ''} | {mn('f'):.3f} / {med('f'):.3f} | "
               f"{mn('unseen'):.2f} / {med('unseen'):.2f} | {med('scan_only_f'):.3f} / {med('scan_only_unseen'):.2f} | "
               f"{med('template_blend_f'):.3f} / {med('template_blend_unseen'):.2f} |")
+    if args.check_floors:
+        shortfalls = floor_shortfalls(rows)
+        for s in shortfalls:
+            print("below the floor: " + s, file=sys.stderr)
+        if shortfalls:
+            sys.exit(1)
+        print(f"every shape meets its floors ({len(rows)} runs)")
 
 
 if __name__ == "__main__":
