@@ -5,7 +5,10 @@
 
 output.ply is coloured by origin (grey: scan or exemplar, a hue per transform: synthesised, red: copied from the
 template); analogy.ply by its own colours. Used to check the robustness sweep's outputs (bench/robustness.py) by eye.
-Needs Debian's python3-numpy and python3-matplotlib (not installed by cmake/dev.sh).
+With --reference=REF.ply (the complete model's points, e.g. `scanfill sample --input MODEL --output REF.ply --count
+300000`), every file is coloured instead by its distance to the reference: blue within --tau (default 1% of the
+reference's diagonal, F-score's threshold), red at 3 tau and beyond; the share within tau per origin is printed.
+Needs Debian's python3-numpy and python3-matplotlib (and python3-scipy for --reference; none installed by cmake/dev.sh).
 """
 import sys, numpy as np, matplotlib
 matplotlib.use("Agg")
@@ -70,19 +73,37 @@ def zbuffer(P, C, N, v, size):
             zflat[uniq[better]] = depth[src[better]]; iflat[uniq[better]] = shade[src[better]]
     return img[::-1]
 
+def distance_colours(P, d, ref, tau, name):
+    """Blue within tau of the reference, red from 3 tau; prints the share within tau per origin."""
+    from scipy.spatial import cKDTree
+    dist, _ = cKDTree(ref).query(P)
+    origin = d.get("origin", np.zeros(len(P)))
+    for o in np.unique(origin):
+        m = origin == o
+        print(f"{name}: origin {int(o)}: {m.sum()} points, {np.mean(dist[m] <= tau):.3f} within tau {tau:.4g}")
+    t = np.clip(dist / tau - 1, 0, 2)[:, None] / 2
+    return (1 - t) * np.array([0.1, 0.3, 0.9]) + t * np.array([0.9, 0.1, 0.1])
+
 def main():
-    out = sys.argv[1]; view = np.array([0, -1, 0.2]); size = 400; files = []
+    out = sys.argv[1]; view = np.array([0, -1, 0.2]); size = 400; files = []; ref = None; tau = None
     for a in sys.argv[2:]:
         if a.startswith("--view="): view = np.array([float(x) for x in a[7:].split(",")])
         elif a.startswith("--size="): size = int(a[7:])
+        elif a.startswith("--reference="):
+            r = read_ply(a[12:]); ref = np.stack([r["x"], r["y"], r["z"]], 1)
+        elif a.startswith("--tau="): tau = float(a[6:])
         else: files.append(a)
+    if not files: sys.exit("render.py: no PLY file to render (usage in the docstring)")
+    if ref is not None and tau is None: tau = 0.01 * np.linalg.norm(ref.max(0) - ref.min(0))
     fig, axes = plt.subplots(2, len(files), figsize=(4 * len(files), 8), squeeze=False)
     for j, fn in enumerate(files):
-        d = read_ply(fn); P = np.stack([d["x"], d["y"], d["z"]], 1); C = colours(d)
+        d = read_ply(fn); P = np.stack([d["x"], d["y"], d["z"]], 1)
+        C = colours(d) if ref is None else distance_colours(P, d, ref, tau, fn)
         N = np.stack([d["nx"], d["ny"], d["nz"]], 1) if "nx" in d else None
         for i, v in enumerate([view, -view]):
             ax = axes[i][j]; ax.imshow(np.clip(zbuffer(P, C, N, v, size), 0, 1)); ax.axis("off")
             ax.set_title(f"{'/'.join(fn.split('/')[-3:])} {'view' if i == 0 else 'opposite'}", fontsize=7)
     plt.tight_layout(); plt.savefig(out, dpi=90)
 
-main()
+if __name__ == "__main__":
+    main()
