@@ -181,7 +181,14 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"registration_offset", json_vec(syn.registration_offset)},
                          {"second_phase_deg", syn.second_phase_deg},
                          {"repeats", repeats_json(syn.repeats)},
-                         {"repeat_fill", syn.repeat_fill}};
+                         {"repeat_fill", syn.repeat_fill},
+                         {"mirror", syn.mirror ? nlohmann::json{{"point", json_vec(syn.mirror->point)},
+                                                                {"normal", json_vec(syn.mirror->normal)},
+                                                                {"misfit", syn.mirror->misfit},
+                                                                {"pairs", syn.mirror->pairs}}
+                                               : nlohmann::json(nullptr)},
+                         {"mirror_fill", syn.mirror_fill},
+                         {"mirror_replaced", syn.mirror_replaced}};
   const CorrespondResult& m = s.correspondence->map;
   report["correspondence"] = {
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},

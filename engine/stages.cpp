@@ -445,6 +445,9 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
     for (const auto& t : analogy->supports->support.transforms) transforms.push_back(t.transform);
     const std::vector<TurningPart> parts =
         turning_parts(v.symmetries->target_symmetry, v.target()->features.points, v.spacing());
+    const auto principal = principal_axis(v.symmetries->target_symmetry);
+    const std::optional<TurningPart> mirror_axis =
+        principal ? std::optional<TurningPart>(TurningPart{principal->centre, principal->direction}) : std::nullopt;
     const CorrespondResult& map = correspondence->map;
     const SynthesisInputs in{correspondence->exemplar->features.points,
                              map.rigid,
@@ -455,7 +458,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              analogy->labels.self_label,
                              transforms,
                              coverage ? &coverage->cover.covered : nullptr,
-                             &parts};
+                             &parts,
+                             mirror_axis ? &*mirror_axis : nullptr};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];

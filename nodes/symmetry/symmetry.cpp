@@ -294,8 +294,8 @@ Similarity nearest_identity_member(const Similarity& q, const SymmetryAxis& axis
   return rotation_about(axis.centre, axis.direction, twist_to_identity(q.rotation, axis.direction)).compose(q);
 }
 
-std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry) {
-  if (symmetry.continuous) return symmetry.continuous->direction;
+std::optional<SymmetryAxis> principal_axis(const SymmetryResult& symmetry) {
+  if (symmetry.continuous) return symmetry.continuous;
   const SymmetryAxis* highest = nullptr;
   bool unique = false;
   for (const auto& a : symmetry.axes) {
@@ -306,7 +306,13 @@ std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry) {
       unique = false;
     }
   }
-  if (highest && unique) return highest->direction;
+  if (highest && unique) return *highest;
+  return std::nullopt;
+}
+
+std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry) {
+  const auto axis = principal_axis(symmetry);
+  if (axis) return axis->direction;
   return std::nullopt;
 }
 

@@ -83,6 +83,8 @@ std::vector<PartSymmetry> find_part_symmetries(const PointSet& shape, double spa
 // no other axis has that order, else nothing (the symmetry does not tell). A vase or a cylinder drawn y-up gives y; a
 // box with a square footprint gives the axis of its quarter turns; a cube or a shape without symmetry gives nothing.
 std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry);
+// That axis itself (its centre, direction and order).
+std::optional<SymmetryAxis> principal_axis(const SymmetryResult& symmetry);
 
 // Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
 // member of its family G_theta o Q (G_theta the rotation about the axis, which leaves S unchanged) whose rotation is

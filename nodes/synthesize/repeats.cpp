@@ -201,6 +201,64 @@ double rms_radius(const Eigen::Matrix3Xd& ep, const std::vector<Index>& samples,
   return std::sqrt(s / double(std::max<size_t>(1, samples.size())));
 }
 
+// The median point-to-plane misfit, against the exemplar, of `samples` at least `off` from the plane, mirrored across
+// it, over the pairs within the limit whose normals agree; and the number of pairs.
+std::pair<double, size_t> mirror_misfit(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                        const std::vector<Index>& samples, const MirrorPlane& plane, double off,
+                                        double limit) {
+  const Similarity m = reflection_across(plane);
+  std::vector<double> r;
+  for (const Index e : samples) {
+    if (std::abs(plane.normal.dot(ep.col(e) - plane.point)) < off) continue;
+    const Eigen::Vector3d x = m.apply(ep.col(e));
+    std::int32_t j;
+    double d2;
+    tree.knn(x, 1, &j, &d2);
+    if (d2 > limit * limit || m.apply_normal(en.col(e)).dot(en.col(j)) < 0.5) continue;
+    r.push_back(std::abs((x - ep.col(j)).dot(en.col(j))));
+  }
+  if (r.size() < 2) return {std::numeric_limits<double>::infinity(), r.size()};
+  std::nth_element(r.begin(), r.begin() + Index(r.size() / 2), r.end());
+  return {r[r.size() / 2], r.size()};
+}
+
+// The exemplar samples in the part that say where a mirror plane through its axis lies: those that a turn about the
+// axis by 2 alpha of arc moves off the exemplar's surface by more than half an alpha (relief: a lion's mane, a bump),
+// not the plain body of revolution, the flat ends or a sphere's cap, which every such plane maps onto themselves.
+std::vector<Index> relief_about(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                const TurningPart& part, double spacing, double limit) {
+  const Eigen::Vector3d a = part.direction.normalized();
+  std::vector<std::uint8_t> relief(size_t(ep.cols()), 0);
+  tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
+    if (!part.contains(ep.col(e))) return;
+    const Eigen::Vector3d x = ep.col(e) - part.point;
+    const double r = (x - a * a.dot(x)).norm();
+    if (r < 2 * spacing) return;
+    const Similarity q = turn(2 * spacing / r, part.point, a);
+    const auto d = plane_distance(tree, ep, en, q.apply(ep.col(e)), limit);
+    relief[size_t(e)] = d && std::abs(*d) > 0.5 * spacing;
+  });
+  std::vector<Index> out;
+  for (Index e = 0; e < ep.cols(); ++e)
+    if (relief[size_t(e)]) out.push_back(e);
+  return out;
+}
+
+// Of the fits (median misfit, pairs), the best one of at least 100 pairs; `start` (-1 for none) unless one is better.
+int best_fit(const std::vector<std::pair<double, size_t>>& fits, int start) {
+  for (int k = 0; k < int(fits.size()); ++k)
+    if (fits[size_t(k)].second >= 100 && (start < 0 || fits[size_t(k)].first < fits[size_t(start)].first)) start = k;
+  return start;
+}
+
+// The plane through `point` whose normal is at `angle` about the axis from u (towards v = axis x u).
+MirrorPlane plane_at(const Eigen::Vector3d& point, const Eigen::Vector3d& u, const Eigen::Vector3d& v, double angle) {
+  MirrorPlane p;
+  p.point = point;
+  p.normal = (std::cos(angle) * u + std::sin(angle) * v).normalized();
+  return p;
+}
+
 }  // namespace
 
 std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
@@ -282,6 +340,46 @@ std::optional<Similarity> turn_to_repeat(const AxialRepeats& r, int order, const
   const double delta = std::round(theta / period) * period - theta;
   if (std::abs(delta) * r.radius > most) return std::nullopt;
   return turn(delta, r.part.point, r.part.direction);
+}
+
+Similarity reflection_across(const MirrorPlane& m) {
+  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity() - 2 * m.normal * m.normal.transpose();
+  return Similarity{R, 2 * m.normal.dot(m.point) * m.normal, 1.0};
+}
+
+std::optional<MirrorPlane> mirror_plane(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const TurningPart& part,
+                                        double spacing, double limit) {
+  KdTree tree;
+  tree.build(ep);
+  const Eigen::Vector3d a = part.direction.normalized(), u = a.unitOrthogonal(), v = a.cross(u);
+  const std::vector<Index> samples = relief_about(tree, ep, en, part, spacing, limit);
+  if (samples.size() < 200) return std::nullopt;
+  const double off = 1.5 * spacing;
+  const auto fit = [&](const MirrorPlane& p) { return mirror_misfit(tree, ep, en, samples, p, off, limit); };
+  constexpr int kPlanes = 60;  // 3 degrees apart over a half turn
+  std::vector<std::pair<double, size_t>> coarse(kPlanes);
+  tbb::parallel_for(0, kPlanes,
+                    [&](int k) { coarse[size_t(k)] = fit(plane_at(part.point, u, v, k * M_PI / kPlanes)); });
+  const int best = best_fit(coarse, -1);
+  if (best < 0) return std::nullopt;
+  // Refined: the angle by quarter degrees within a step, then the plane along its normal by quarter alphas.
+  const double step = M_PI / kPlanes;
+  std::vector<std::pair<double, size_t>> fine(25), along(17);
+  const auto angle_at = [&](int i) { return best * step + (i - 12) * step / 12; };
+  tbb::parallel_for(0, 25, [&](int i) { fine[size_t(i)] = fit(plane_at(part.point, u, v, angle_at(i))); });
+  MirrorPlane plane = plane_at(part.point, u, v, angle_at(best_fit(fine, 12)));
+  tbb::parallel_for(0, 17, [&](int i) {
+    MirrorPlane p = plane;
+    p.point += (i - 8) * 0.25 * spacing * p.normal;
+    along[size_t(i)] = fit(p);
+  });
+  const int bj = best_fit(along, 8);
+  plane.point += (bj - 8) * 0.25 * spacing * plane.normal;
+  const auto [misfit, pairs] = along[size_t(bj)];
+  if (pairs < 100 || 4 * pairs < samples.size() || misfit > 0.35 * spacing) return std::nullopt;
+  plane.misfit = misfit;
+  plane.pairs = std::int64_t(pairs);
+  return plane;
 }
 
 }  // namespace scanfill

@@ -71,4 +71,27 @@ inline int band_of(const AxialRepeats& r, const Eigen::Vector3d& p) {
 std::optional<Similarity> turn_to_repeat(const AxialRepeats& r, int order, const Similarity& q, double most,
                                          double spacing);
 
+// A plane about which the exemplar is its own mirror image: a lion's head, mirror-symmetric about the plane through
+// the vase's axis and its face, which no turn about the axis maps onto itself.
+struct MirrorPlane {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  // unit
+  double misfit = 0;                                  // median point-to-plane misfit of the mirrored pairs
+  std::int64_t pairs = 0;                             // exemplar samples whose mirror image pairs with the exemplar
+};
+
+// The reflection across the plane: a similarity whose rotation has determinant -1.
+Similarity reflection_across(const MirrorPlane& m);
+
+// The plane through the part's axis about which the exemplar's relief in the part fits its own mirror image best.
+// Relief: the samples that a turn about the axis by 2 alpha of arc moves more than half an alpha off the exemplar (a
+// plain body of revolution, its flat ends and a sphere fit every plane through the axis, and say nothing). Each at
+// least 1.5 alpha off the plane, mirrored, pairs with its nearest exemplar sample within `limit` whose normal agrees
+// with its mirrored normal (within 60 degrees), and the fit is the pairs' median point-to-plane misfit.
+// Planes 3 degrees apart, then refined by quarter degrees and by quarter alphas along the normal (up to 2 alpha). None
+// unless at least 100 samples and a quarter of the relief pair and the fit is under 0.35 alpha (`spacing`): a blob's
+// bumps pair by chance, an eighth of them. Deterministic.
+std::optional<MirrorPlane> mirror_plane(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const TurningPart& part,
+                                        double spacing, double limit);
+
 }  // namespace scanfill

@@ -1075,6 +1075,95 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
     }
 }
 
+// Keeps the points where `keep` is 1, and the landings of the synthesised ones (`landed`, one per point after the
+// exemplar's `first`).
+void keep_points(const std::vector<std::uint8_t>& keep, Index first, std::vector<Eigen::Vector3d>& landed, Builder& b) {
+  size_t w = 0;
+  Synthesis& out = b.out;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
+    b.p[w] = b.p[i];
+    b.n[w] = b.n[i];
+    out.origin[w] = out.origin[i];
+    out.label[w] = out.label[i];
+    out.patch[w] = out.patch[i];
+    out.base[w] = out.base[i];
+    out.ring[w] = out.ring[i];
+    if (Index(i) >= first) landed[w - size_t(first)] = landed[i - size_t(first)];
+    ++w;
+  }
+  for (auto* v : {&b.p, &b.n}) v->resize(w);
+  out.origin.resize(w);
+  out.label.resize(w);
+  out.patch.resize(w);
+  out.base.resize(w);
+  out.ring.resize(w);
+  landed.resize(w - size_t(first));
+}
+
+// Completion: where the exemplar does not repeat under turns about the template's axis but is its own mirror image
+// about a plane through it (mirror_plane: a lion's head), the exemplar mirrored takes the template's region it lands
+// on from the images, whose turns carry the lion's head where the model has its mane. Mirrored samples are added where
+// their source sample lands on the target (within `reach`) off what the exemplar covers, and no exemplar sample lies
+// within an alpha; the images' points that land within `reach` of them are removed.
+void replace_by_mirror(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                       const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
+                       const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
+  if (!in.mirror_axis) return;
+  TurningPart axis = *in.mirror_axis;
+  axis.point += offset;
+  for (const AxialRepeats& r : b.out.repeats)
+    if (std::abs(r.part.direction.dot(axis.direction)) >= std::cos(M_PI / 180)) return;  // turns do it
+  const auto plane = mirror_plane(ep, en, axis, spacing, o.refine_distance * spacing);
+  if (!plane) return;
+  b.out.mirror = plane;
+  const Similarity m = reflection_across(*plane), landing = shifted_by(-offset, m);
+  const double reach = o.reach * spacing, near = 1.0 * spacing;
+  KdTree exemplar_tree;
+  exemplar_tree.build(ep);
+  std::vector<std::int32_t> lands(size_t(ep.cols()), -1);
+  tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
+    const auto s = in.exemplar_source[size_t(e)];
+    if (s < 0) return;
+    std::int32_t j;
+    double d2;
+    exemplar_tree.knn(m.apply(ep.col(e)), 1, &j, &d2);
+    if (d2 <= near * near) return;
+    target_tree.knn(landing.apply(in.source.positions().col(s)), 1, &j, &d2);
+    if (d2 <= reach * reach && !(in.covered && (*in.covered)[size_t(j)])) lands[size_t(e)] = j;
+  });
+  std::vector<Index> kept;
+  std::vector<Eigen::Vector3d> kept_landed;
+  for (Index e = 0; e < ep.cols(); ++e)
+    if (lands[size_t(e)] >= 0) {
+      kept.push_back(e);
+      kept_landed.push_back(landing.apply(in.source.positions().col(in.exemplar_source[size_t(e)])));
+    }
+  if (kept.empty()) return;
+  const Eigen::Matrix3Xd mirrored_landing = as_columns(kept_landed);  // the tree refers to it
+  KdTree mirrored;
+  mirrored.build(mirrored_landing);
+  const Index first = ep.cols();  // the exemplar's points come first, without landings
+  std::vector<std::uint8_t> keep(b.p.size(), 1);
+  for (size_t i = size_t(first); i < keep.size(); ++i) {
+    std::int32_t j;
+    double d2;
+    mirrored.knn(landed[i - size_t(first)], 1, &j, &d2);
+    if (d2 <= reach * reach) keep[i] = 0;
+  }
+  b.out.mirror_replaced = Index(std::count(keep.begin(), keep.end(), 0));
+  keep_points(keep, first, landed, b);
+  const int label = most_common_label(in, lands, kept);
+  const int patch = int(b.out.patches.size());
+  b.out.patches.push_back({label, Origin::kSynthesized, false, m});
+  for (size_t k = 0; k < kept.size(); ++k) {
+    b.add(m.apply(ep.col(kept[k])), m.apply_normal(en.col(kept[k])), Origin::kSynthesized, label, patch, int(kept[k]),
+          false);
+    landed.push_back(kept_landed[k]);
+  }
+  b.out.mirror_fill = Index(kept.size());
+}
+
 // Per transform label, the exemplar samples it carries into its region (2) or the region's ring (1) on the target:
 // those whose source sample, carried by the labelled transform, lands within `reach` of a target sample of the region
 // or ring. Membership is the analogy's; the refinement moves only where they land.
@@ -1180,6 +1269,8 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   }
 
   if (in.covered && o.repeats) fill_by_repeats(in, ep, en, out.registration_offset, target_tree, spacing, o, landed, b);
+  if (in.covered && o.mirror)
+    replace_by_mirror(in, ep, en, out.registration_offset, target_tree, spacing, o, landed, b);
   fill_holes(in, ep, en, inverse, out.registration_offset, region_size, target_tree, spacing, o, landed, b);
   const std::vector<std::uint8_t> reached = reached_targets(landed, T, o.gap_distance * spacing);
   const std::vector<std::uint8_t> overlaid = overlaid_targets(

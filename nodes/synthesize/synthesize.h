@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "nodes/core/point_set.h"
@@ -56,6 +57,7 @@ struct SynthesisOptions {
   double refine_distance = 3.0;   // ICP pairs closer than this, in alpha; > 0
   double search_distance = 15.0;  // slippable motions are searched this far (alpha) before ICP; >= 0
   bool repeats = true;            // completion: turn images to the exemplar's own repeats, and fill with its turns
+  bool mirror = true;             // completion: the exemplar's mirror image about a plane through the template's axis
 };
 
 struct Synthesis {
@@ -75,6 +77,9 @@ struct Synthesis {
   std::vector<double> second_phase_deg;  // per transform label: turn of its second phase about the axis (0 if none)
   std::vector<AxialRepeats> repeats;     // completion: the exemplar's repeats about the axes regions turn about
   Index repeat_fill = 0;                 // samples added by turning the exemplar to its repeats (fill_by_repeats)
+  std::optional<MirrorPlane> mirror;     // completion: the exemplar's mirror plane through the template's axis
+  Index mirror_fill = 0;                 // samples added by mirroring the exemplar (replace_by_mirror)
+  Index mirror_replaced = 0;             // images' points the mirrored exemplar took the place of
 };
 
 struct SynthesisInputs {
@@ -89,6 +94,9 @@ struct SynthesisInputs {
   const std::vector<std::uint8_t>* covered = nullptr;  // completion: target samples the scan covers; else null
   // Completion: the template's axes of revolution (its own, its parts': a table's legs), whose turns may fill.
   const std::vector<TurningPart>* turning_parts = nullptr;
+  // Completion: the template's principal axis (its continuous one, else its unique one of highest order), through
+  // which a plane may mirror the exemplar onto itself; null for none.
+  const TurningPart* mirror_axis = nullptr;
 };
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);

@@ -21,6 +21,10 @@ OptionTable option_table(SynthesisOptions& sy) {
         non_negative(&sy.search_distance)},
        {"repeats", &sy.repeats,
         "completion: turn each image to the scan's own repeats about the axis, and fill with its turned copies", any()},
+       {"mirror", &sy.mirror,
+        "completion: where the scan does not repeat about the template's axis but mirrors onto itself about a plane "
+        "through it, its mirror image replaces the images where it lands",
+        any()},
        {"gap_distance", &sy.gap_distance,
         "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
         positive(&sy.gap_distance)},

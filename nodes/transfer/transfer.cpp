@@ -90,11 +90,13 @@ void slots_of(const PatchInput& in, Index first, std::vector<std::int32_t>& slot
     if (in.carried(i) >= 0) slot[size_t(i)] = std::int32_t(first++);
 }
 
-// The triangles of the patch's input whose three corners it emits, as output indices (`slot`).
-void add_triangles(const PointSet& full, const std::vector<std::int32_t>& slot, std::vector<Eigen::Vector3i>& tris) {
+// The triangles of the patch's input whose three corners it emits, as output indices (`slot`); wound the other way
+// when the patch mirrors its input (`mirrored`), so that they still face along their points' normals.
+void add_triangles(const PointSet& full, const std::vector<std::int32_t>& slot, bool mirrored,
+                   std::vector<Eigen::Vector3i>& tris) {
   for (Index f = 0; f < full.faces().cols(); ++f) {
     const Eigen::Vector3i c = full.faces().col(f);
-    const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(1))], slot[size_t(c(2))]);
+    const Eigen::Vector3i m(slot[size_t(c(0))], slot[size_t(c(mirrored ? 2 : 1))], slot[size_t(c(mirrored ? 1 : 2))]);
     if (m.minCoeff() >= 0) tris.push_back(m);
   }
 }
@@ -215,7 +217,7 @@ TransferCounts stream_plan(const TransferPlan& plan, const PointSet* exemplar, c
     }
     if (counts.faces > 0 && in.full->has_faces()) {
       slots_of(in, written, slot);
-      add_triangles(*in.full, slot, tris);
+      add_triangles(*in.full, slot, plan.patches[p].whole.rotation.determinant() < 0, tris);
     }
     written += patch_counts(in, false).first;
     report(progress, 0.4 + 0.6 * double(p + 1) / double(np));

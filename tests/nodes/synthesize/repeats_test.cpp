@@ -11,6 +11,9 @@
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
+
+PointSet one_headed_body(bool head = true);  // synthesize_test.cpp
+
 namespace {
 
 struct Exemplar {
@@ -119,6 +122,26 @@ TEST(TurnToRepeat, TurnsToTheNearestMultipleOfTheOrder) {
   lifted.translation.z() = 0.02;
   EXPECT_FALSE(turn_to_repeat(r, 12, lifted, 1.0, 0.01));
   EXPECT_FALSE(turn_to_repeat(r, 16, q, 0.3 * 7 * M_PI / 180, 0.01));  // 7.1 degrees at radius 0.3 is too far
+}
+
+// Seen from -y (its half y < 0), the body's plane through the axis and the head: x = 0, within a degree, and
+// within an alpha of it though the axis given is 0.3 alpha off; its reflection maps the head onto itself.
+TEST(MirrorPlane, FindsThePlaneThroughTheAxisAndAHead) {
+  const Exemplar e = half_of(one_headed_body(), 30000);
+  const auto m = mirror_plane(e.p, e.n, {Eigen::Vector3d(0.002, 0, 0), Eigen::Vector3d::UnitZ()}, e.alpha, 3 * e.alpha);
+  ASSERT_TRUE(m.has_value());
+  EXPECT_GT(std::abs(m->normal.x()), std::cos(1.0 * M_PI / 180));
+  EXPECT_LT(std::abs(m->point.x()), 0.5 * e.alpha);
+  EXPECT_LT(m->misfit, 0.35 * e.alpha);
+  const Similarity r = reflection_across(*m);
+  EXPECT_LT(r.rotation.determinant(), 0);
+  EXPECT_LT((r.apply(Eigen::Vector3d(0.2, -0.3, 0.4)) - Eigen::Vector3d(-0.2, -0.3, 0.4)).norm(), 2 * e.alpha);
+}
+
+// A blob has no mirror plane through any axis.
+TEST(MirrorPlane, FindsNoneOnAShapeWithout) {
+  const Exemplar e = half_of(make_blob(), 30000);
+  EXPECT_FALSE(mirror_plane(e.p, e.n, about_z, e.alpha, 3 * e.alpha).has_value());
 }
 
 }  // namespace
