@@ -26,13 +26,13 @@ Similarity turn(double angle, const Eigen::Vector3d& point, const Eigen::Vector3
 }
 
 // The point-to-plane distance of x from the exemplar sample nearest it (`tree` holds ep), if that lies within the
-// limit.
+// limit and, given x's normal (`facing`), faces within 60 degrees of it.
 std::optional<double> plane_distance(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
-                                     const Eigen::Vector3d& x, double limit) {
+                                     const Eigen::Vector3d& x, double limit, const Eigen::Vector3d* facing = nullptr) {
   std::int32_t j;
   double d2;
   tree.knn(x, 1, &j, &d2);
-  if (d2 > limit * limit) return std::nullopt;
+  if (d2 > limit * limit || (facing && facing->dot(en.col(j)) < 0.5)) return std::nullopt;
   return (x - ep.col(j)).dot(en.col(j));
 }
 
@@ -210,12 +210,8 @@ std::pair<double, size_t> mirror_misfit(const KdTree& tree, const Eigen::Matrix3
   std::vector<double> r;
   for (const Index e : samples) {
     if (std::abs(plane.normal.dot(ep.col(e) - plane.point)) < off) continue;
-    const Eigen::Vector3d x = m.apply(ep.col(e));
-    std::int32_t j;
-    double d2;
-    tree.knn(x, 1, &j, &d2);
-    if (d2 > limit * limit || m.apply_normal(en.col(e)).dot(en.col(j)) < 0.5) continue;
-    r.push_back(std::abs((x - ep.col(j)).dot(en.col(j))));
+    const Eigen::Vector3d normal = m.apply_normal(en.col(e));
+    if (const auto d = plane_distance(tree, ep, en, m.apply(ep.col(e)), limit, &normal)) r.push_back(std::abs(*d));
   }
   if (r.size() < 2) return {std::numeric_limits<double>::infinity(), r.size()};
   std::nth_element(r.begin(), r.begin() + Index(r.size() / 2), r.end());
@@ -347,10 +343,8 @@ Similarity reflection_across(const MirrorPlane& m) {
   return Similarity{R, 2 * m.normal.dot(m.point) * m.normal, 1.0};
 }
 
-std::optional<MirrorPlane> mirror_plane(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const TurningPart& part,
-                                        double spacing, double limit) {
-  KdTree tree;
-  tree.build(ep);
+std::optional<MirrorPlane> mirror_plane(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                        const TurningPart& part, double spacing, double limit) {
   const Eigen::Vector3d a = part.direction.normalized(), u = a.unitOrthogonal(), v = a.cross(u);
   const std::vector<Index> samples = relief_about(tree, ep, en, part, spacing, limit);
   if (samples.size() < 200) return std::nullopt;

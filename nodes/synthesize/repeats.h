@@ -21,6 +21,8 @@
 
 namespace scanfill {
 
+class KdTree;
+
 // An axis, and the part of space about it that turns (a table's leg): within `radius` of it, between heights `low` and
 // `high` along it (from `point`). Unbounded by default: the whole shape.
 struct TurningPart {
@@ -84,14 +86,14 @@ struct MirrorPlane {
 Similarity reflection_across(const MirrorPlane& m);
 
 // The plane through the part's axis about which the exemplar's relief in the part fits its own mirror image best.
-// Relief: the samples that a turn about the axis by 2 alpha of arc moves more than half an alpha off the exemplar (a
-// plain body of revolution, its flat ends and a sphere fit every plane through the axis, and say nothing). Each at
-// least 1.5 alpha off the plane, mirrored, pairs with its nearest exemplar sample within `limit` whose normal agrees
-// with its mirrored normal (within 60 degrees), and the fit is the pairs' median point-to-plane misfit.
-// Planes 3 degrees apart, then refined by quarter degrees and by quarter alphas along the normal (up to 2 alpha). None
-// unless at least 100 samples and a quarter of the relief pair and the fit is under 0.35 alpha (`spacing`): a blob's
-// bumps pair by chance, an eighth of them. Deterministic.
-std::optional<MirrorPlane> mirror_plane(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const TurningPart& part,
-                                        double spacing, double limit);
+// `tree` holds ep. Relief: the samples that a turn about the axis by 2 alpha of arc moves more than half an alpha off
+// the exemplar (a plain body of revolution, its flat ends and a sphere fit every plane through the axis, and say
+// nothing). Each at least 1.5 alpha off the plane, mirrored, pairs with its nearest exemplar sample within `limit`
+// whose normal agrees with its mirrored normal (within 60 degrees), and the fit is the pairs' median point-to-plane
+// misfit. Planes 3 degrees apart, then refined by quarter degrees and by quarter alphas along the normal (up to 2
+// alpha). None unless at least 100 samples and a quarter of the relief pair and the fit is under 0.35 alpha
+// (`spacing`): a blob's bumps pair by chance, an eighth of them. Deterministic.
+std::optional<MirrorPlane> mirror_plane(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                        const TurningPart& part, double spacing, double limit);
 
 }  // namespace scanfill

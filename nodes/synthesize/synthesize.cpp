@@ -1114,13 +1114,13 @@ void replace_by_mirror(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, co
   axis.point += offset;
   for (const AxialRepeats& r : b.out.repeats)
     if (std::abs(r.part.direction.dot(axis.direction)) >= std::cos(M_PI / 180)) return;  // turns do it
-  const auto plane = mirror_plane(ep, en, axis, spacing, o.refine_distance * spacing);
+  KdTree exemplar_tree;
+  exemplar_tree.build(ep);
+  const auto plane = mirror_plane(exemplar_tree, ep, en, axis, spacing, o.refine_distance * spacing);
   if (!plane) return;
   b.out.mirror = plane;
   const Similarity m = reflection_across(*plane), landing = shifted_by(-offset, m);
   const double reach = o.reach * spacing, near = 1.0 * spacing;
-  KdTree exemplar_tree;
-  exemplar_tree.build(ep);
   std::vector<std::int32_t> lands(size_t(ep.cols()), -1);
   tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
     const auto s = in.exemplar_source[size_t(e)];

@@ -5,8 +5,10 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
+#include "nodes/core/kdtree.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
 
@@ -124,11 +126,18 @@ TEST(TurnToRepeat, TurnsToTheNearestMultipleOfTheOrder) {
   EXPECT_FALSE(turn_to_repeat(r, 16, q, 0.3 * 7 * M_PI / 180, 0.01));  // 7.1 degrees at radius 0.3 is too far
 }
 
+// The exemplar's mirror plane through the axis, at its alpha (pairs within 3 alpha).
+std::optional<MirrorPlane> mirror_of(const Exemplar& e, const TurningPart& axis) {
+  KdTree tree;
+  tree.build(e.p);
+  return mirror_plane(tree, e.p, e.n, axis, e.alpha, 3 * e.alpha);
+}
+
 // Seen from -y (its half y < 0), the body's plane through the axis and the head: x = 0, within a degree, and
 // within an alpha of it though the axis given is 0.3 alpha off; its reflection maps the head onto itself.
 TEST(MirrorPlane, FindsThePlaneThroughTheAxisAndAHead) {
   const Exemplar e = half_of(one_headed_body(), 30000);
-  const auto m = mirror_plane(e.p, e.n, {Eigen::Vector3d(0.002, 0, 0), Eigen::Vector3d::UnitZ()}, e.alpha, 3 * e.alpha);
+  const auto m = mirror_of(e, {Eigen::Vector3d(0.002, 0, 0), Eigen::Vector3d::UnitZ()});
   ASSERT_TRUE(m.has_value());
   EXPECT_GT(std::abs(m->normal.x()), std::cos(1.0 * M_PI / 180));
   EXPECT_LT(std::abs(m->point.x()), 0.5 * e.alpha);
@@ -141,7 +150,7 @@ TEST(MirrorPlane, FindsThePlaneThroughTheAxisAndAHead) {
 // A blob has no mirror plane through any axis.
 TEST(MirrorPlane, FindsNoneOnAShapeWithout) {
   const Exemplar e = half_of(make_blob(), 30000);
-  EXPECT_FALSE(mirror_plane(e.p, e.n, about_z, e.alpha, 3 * e.alpha).has_value());
+  EXPECT_FALSE(mirror_of(e, about_z).has_value());
 }
 
 }  // namespace

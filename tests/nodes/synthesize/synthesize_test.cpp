@@ -286,6 +286,21 @@ std::vector<double> distances_to_shifted(const Synthesis& syn, const PointSet& m
   return distance;
 }
 
+// The share of the points that `counted` selects (by index) whose nearest point in `tree` lies within `distance`.
+double share_near(const KdTree& tree, const Eigen::Matrix3Xd& points, double distance,
+                  const std::function<bool(Index)>& counted) {
+  Index total = 0, near = 0;
+  for (Index i = 0; i < points.cols(); ++i) {
+    if (!counted(i)) continue;
+    std::int32_t j;
+    double d2;
+    tree.knn(points.col(i), 1, &j, &d2);
+    ++total;
+    near += d2 <= distance * distance;
+  }
+  return double(near) / double(std::max<Index>(1, total));
+}
+
 double ninetieth_percentile(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + long(v.size() * 9 / 10), v.end());
   return v[v.size() * 9 / 10];
@@ -345,17 +360,10 @@ TEST(SynthesizeRepeats, FillsTheHiddenHalvesOfAVasesBeadsWithItsOwnTurns) {
   const auto share_filled = [&](const Synthesis& syn) {
     KdTree tree;
     tree.build(syn.points.positions());
-    Index inside = 0, near = 0;
-    for (Index i = 0; i < dense.size(); ++i) {
+    return share_near(tree, dense.positions(), alpha, [&](Index i) {
       const Eigen::Vector3d p = dense.positions().col(i);
-      if (p.y() >= 0 || !hidden(p)) continue;
-      std::int32_t j;
-      double d2;
-      tree.knn(p, 1, &j, &d2);
-      ++inside;
-      near += d2 <= alpha * alpha;
-    }
-    return double(near) / double(std::max<Index>(1, inside));
+      return p.y() < 0 && hidden(p);
+    });
   };
   const auto label_of = [](const Eigen::Vector3d& p) { return p.y() < 0 ? 0 : 1; };
   const Synthesis with = refine_transforms(exemplar, target, {turn(0), turn(180)}, label_of, alpha);
@@ -481,17 +489,9 @@ TEST(SynthesizeMirror, ReplacesAHalfTurnsImageByTheExemplarsMirrorImage) {
   const PointSet dense = random_surface_points(body, 400000, 5);
   model.build(dense.positions());
   const auto share_on_body = [&](const Synthesis& syn) {
-    Index far_side = 0, near = 0;
-    for (Index i = 0; i < syn.points.size(); ++i) {
-      const Eigen::Vector3d p = syn.points.positions().col(i);
-      if (syn.origin[size_t(i)] != Origin::kSynthesized || p.x() > -0.15) continue;
-      std::int32_t j;
-      double d2;
-      model.knn(p, 1, &j, &d2);
-      ++far_side;
-      near += d2 <= alpha * alpha;
-    }
-    return double(near) / double(std::max<Index>(1, far_side));
+    return share_near(model, syn.points.positions(), alpha, [&](Index i) {
+      return syn.origin[size_t(i)] == Origin::kSynthesized && syn.points.positions()(0, i) <= -0.15;
+    });
   };
   const Synthesis with = refine_transforms(exemplar, target, {Similarity{}, half_turn}, label_of, alpha, {}, &axis);
   SynthesisOptions off;
