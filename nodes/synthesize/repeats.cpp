@@ -14,10 +14,13 @@
 namespace scanfill {
 namespace {
 
-constexpr double kMaxTurn = 2 * M_PI / 3;  // turns tried: up to 120 degrees, where a half-seen ring still overlaps
-constexpr int kMostTurns = 360;            // at most this many steps (bounds the table)
-constexpr Index kMostSamples = 4000;       // the exemplar is scored on an even subsample of at most this many
-constexpr double kDeep = 0.25;             // a repeat's misfit is at most this share of the band's median misfit
+constexpr double kMaxTurn = 2 * M_PI / 3;     // turns tried: up to 120 degrees, where a half-seen ring still overlaps
+constexpr int kMostTurns = 360;               // at most this many steps (bounds the table)
+constexpr Index kMostSamples = 4000;          // the exemplar is scored on an even subsample of at most this many
+constexpr double kMostTilt = 5 * M_PI / 180;  // a mirror plane's normal at most this far off square to the axis
+constexpr double kMostOffset = 3;             // and the plane at most this many alphas off the axis' point
+constexpr size_t kBasins = 6;                 // mirror planes refined from this many coarse basins
+constexpr double kDeep = 0.25;                // a repeat's misfit is at most this share of the band's median misfit
 
 // The turn by `angle` about the axis through `point` along unit `direction`.
 Similarity turn(double angle, const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
@@ -240,19 +243,80 @@ std::vector<Index> relief_about(const KdTree& tree, const Eigen::Matrix3Xd& ep, 
   return out;
 }
 
-// Of the fits (median misfit, pairs), the best one of at least 100 pairs; `start` (-1 for none) unless one is better.
-int best_fit(const std::vector<std::pair<double, size_t>>& fits, int start) {
-  for (int k = 0; k < int(fits.size()); ++k)
-    if (fits[size_t(k)].second >= 100 && (start < 0 || fits[size_t(k)].first < fits[size_t(start)].first)) start = k;
-  return start;
+// A plane through the axis: its normal's angle about the axis from u (towards v = axis x u), and its offset along the
+// normal from the axis' point, in alphas.
+struct PlaneAt {
+  double angle = 0;
+  double offset = 0;
+};
+
+MirrorPlane plane_at(const Eigen::Vector3d& point, const Eigen::Vector3d& u, const Eigen::Vector3d& v, const PlaneAt& x,
+                     double spacing) {
+  MirrorPlane p;
+  p.normal = (std::cos(x.angle) * u + std::sin(x.angle) * v).normalized();
+  p.point = point + x.offset * spacing * p.normal;
+  return p;
 }
 
-// The plane through `point` whose normal is at `angle` about the axis from u (towards v = axis x u).
-MirrorPlane plane_at(const Eigen::Vector3d& point, const Eigen::Vector3d& u, const Eigen::Vector3d& v, double angle) {
-  MirrorPlane p;
-  p.point = point;
-  p.normal = (std::cos(angle) * u + std::sin(angle) * v).normalized();
-  return p;
+// Whether a fit (median misfit, pairs) of at least 100 pairs is better than another.
+bool better_fit(const std::pair<double, size_t>& f, const std::pair<double, size_t>& than) {
+  return f.second >= 100 && (than.second < 100 || f.first < than.first);
+}
+
+// The coarse fits' (angle-major, a circle of angles, `offsets` per angle) local minima of at least 100 pairs, at most
+// `most`, best first: each the best of its angle's offsets, and no worse than the neighbouring angles' best.
+std::vector<int> coarse_basins(const std::vector<std::pair<double, size_t>>& fits, int angles, int offsets,
+                               size_t most) {
+  std::vector<int> at(size_t(angles), -1);  // per angle, its best offset's fit
+  for (int k = 0; k < angles * offsets; ++k)
+    if (int& b = at[size_t(k / offsets)]; b < 0 || better_fit(fits[size_t(k)], fits[size_t(b)])) b = k;
+  const auto value = [&](int angle) {
+    const auto& f = fits[size_t(at[size_t((angle + angles) % angles)])];
+    return f.second >= 100 ? f.first : std::numeric_limits<double>::infinity();
+  };
+  std::vector<int> out;
+  for (int k = 0; k < angles; ++k)
+    if (std::isfinite(value(k)) && value(k) <= value(k + 1) && value(k) < value(k - 1)) out.push_back(at[size_t(k)]);
+  std::sort(out.begin(), out.end(), [&](int x, int y) { return fits[size_t(x)].first < fits[size_t(y)].first; });
+  if (out.size() > most) out.resize(most);
+  return out;
+}
+
+// The plane moved by point-to-plane ICP of the mirrored samples (at least `off` from it) onto the exemplar: per step,
+// each pairs with its nearest exemplar sample within the limit whose normal agrees, and one Gauss-Newton step turns the
+// normal (both ways, about the plane's point) and moves the plane along it, the pairs Cauchy-weighted at half an alpha;
+// 20 steps or until it moves less than a hundredth of a degree and of an alpha.
+MirrorPlane icp_refined(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                        const std::vector<Index>& samples, MirrorPlane plane, double spacing, double off,
+                        double limit) {
+  for (int step = 0; step < 20; ++step) {
+    const Eigen::Vector3d n = plane.normal, t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (const Index e : samples) {
+      const Eigen::Vector3d x = ep.col(e) - plane.point;
+      const double h = x.dot(n);  // signed distance from the plane
+      if (std::abs(h) < off) continue;
+      const Eigen::Vector3d m = ep.col(e) - 2 * h * n, mn = en.col(e) - 2 * en.col(e).dot(n) * n;
+      std::int32_t j;
+      double d2;
+      tree.knn(m, 1, &j, &d2);
+      if (d2 > limit * limit || mn.dot(en.col(j)) < 0.5) continue;
+      const Eigen::Vector3d& ny = en.col(j);
+      const double r = (m - ep.col(j)).dot(ny);
+      const Eigen::Vector3d J(-2 * (x.dot(t1) * n.dot(ny) + h * t1.dot(ny)),
+                              -2 * (x.dot(t2) * n.dot(ny) + h * t2.dot(ny)), 2 * n.dot(ny));
+      const double w = 1 / (1 + std::pow(r / (0.5 * spacing), 2));
+      A += w * J * J.transpose();
+      g += w * J * r;
+    }
+    if (A.determinant() <= 0) break;
+    const Eigen::Vector3d delta = -A.ldlt().solve(g);
+    plane.normal = (n + delta(0) * t1 + delta(1) * t2).normalized();
+    plane.point += delta(2) * n;
+    if (delta.head<2>().norm() < 0.01 * M_PI / 180 && std::abs(delta(2)) < 0.01 * spacing) break;
+  }
+  return plane;
 }
 
 }  // namespace
@@ -350,30 +414,37 @@ std::optional<MirrorPlane> mirror_plane(const KdTree& tree, const Eigen::Matrix3
   if (samples.size() < 200) return std::nullopt;
   const double off = 1.5 * spacing;
   const auto fit = [&](const MirrorPlane& p) { return mirror_misfit(tree, ep, en, samples, p, off, limit); };
-  constexpr int kPlanes = 60;  // 3 degrees apart over a half turn
-  std::vector<std::pair<double, size_t>> coarse(kPlanes);
-  tbb::parallel_for(0, kPlanes,
-                    [&](int k) { coarse[size_t(k)] = fit(plane_at(part.point, u, v, k * M_PI / kPlanes)); });
-  const int best = best_fit(coarse, -1);
-  if (best < 0) return std::nullopt;
-  // Refined: the angle by quarter degrees within a step, then the plane along its normal by quarter alphas.
-  const double step = M_PI / kPlanes;
-  std::vector<std::pair<double, size_t>> fine(25), along(17);
-  const auto angle_at = [&](int i) { return best * step + (i - 12) * step / 12; };
-  tbb::parallel_for(0, 25, [&](int i) { fine[size_t(i)] = fit(plane_at(part.point, u, v, angle_at(i))); });
-  MirrorPlane plane = plane_at(part.point, u, v, angle_at(best_fit(fine, 12)));
-  tbb::parallel_for(0, 17, [&](int i) {
-    MirrorPlane p = plane;
-    p.point += (i - 8) * 0.25 * spacing * p.normal;
-    along[size_t(i)] = fit(p);
+  // Coarse: planes 3 degrees apart over a half turn, each up to 2 alpha either side of the axis.
+  constexpr int kAngles = 60, kOffsets = 9;
+  std::vector<std::pair<double, size_t>> coarse(kAngles * kOffsets);
+  const auto coarse_at = [&](int k) {
+    return plane_at(part.point, u, v, PlaneAt{(k / kOffsets) * M_PI / kAngles, (k % kOffsets - 4) * 0.5}, spacing);
+  };
+  tbb::parallel_for(0, kAngles * kOffsets, [&](int k) { coarse[size_t(k)] = fit(coarse_at(k)); });
+  // Refined from each basin by ICP, and kept where it stays a plane through the axis.
+  const std::vector<int> basins = coarse_basins(coarse, kAngles, kOffsets, kBasins);
+  std::vector<MirrorPlane> refined(basins.size());
+  std::vector<std::pair<double, size_t>> fits(basins.size());
+  tbb::parallel_for(size_t(0), basins.size(), [&](size_t i) {
+    refined[i] = icp_refined(tree, ep, en, samples, coarse_at(basins[i]), spacing, off, limit);
+    fits[i] = fit(refined[i]);
   });
-  const int bj = best_fit(along, 8);
-  plane.point += (bj - 8) * 0.25 * spacing * plane.normal;
-  const auto [misfit, pairs] = along[size_t(bj)];
-  if (pairs < 100 || 4 * pairs < samples.size() || misfit > 0.35 * spacing) return std::nullopt;
-  plane.misfit = misfit;
-  plane.pairs = std::int64_t(pairs);
-  return plane;
+  std::optional<MirrorPlane> best;
+  std::pair<double, size_t> best_fit{std::numeric_limits<double>::infinity(), 0};
+  for (size_t i = 0; i < basins.size(); ++i) {
+    const MirrorPlane& x = refined[i];
+    const bool through_axis = std::abs(x.normal.dot(a)) <= std::sin(kMostTilt) &&
+                              std::abs(x.normal.dot(x.point - part.point)) <= kMostOffset * spacing;
+    if (through_axis && better_fit(fits[i], best_fit)) {
+      best_fit = fits[i];
+      best = x;
+    }
+  }
+  const auto [misfit, pairs] = best_fit;
+  if (!best || 5 * pairs < samples.size() || misfit > 0.25 * spacing) return std::nullopt;
+  best->misfit = misfit;
+  best->pairs = std::int64_t(pairs);
+  return best;
 }
 
 }  // namespace scanfill

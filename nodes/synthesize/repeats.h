@@ -90,9 +90,12 @@ Similarity reflection_across(const MirrorPlane& m);
 // the exemplar (a plain body of revolution, its flat ends and a sphere fit every plane through the axis, and say
 // nothing). Each at least 1.5 alpha off the plane, mirrored, pairs with its nearest exemplar sample within `limit`
 // whose normal agrees with its mirrored normal (within 60 degrees), and the fit is the pairs' median point-to-plane
-// misfit. Planes 3 degrees apart, then refined by quarter degrees and by quarter alphas along the normal (up to 2
-// alpha). None unless at least 100 samples and a quarter of the relief pair and the fit is under 0.35 alpha
-// (`spacing`): a blob's bumps pair by chance, an eighth of them. Deterministic.
+// misfit. Planes 3 degrees apart, each up to 2 alpha either side of the axis by half alphas; the six best basins are
+// refined by point-to-plane ICP of the mirrored relief, free to tilt (the template's axis is the scan's only to a
+// degree or two, and on the Vase-Lion a tilt of 1.5-2 degrees costs 0.2-0.4 alpha), and kept within 5 degrees of square
+// to the axis and 3 alpha of its point. None unless at least 100 samples and a fifth of the relief pair and the fit is
+// under 0.25 alpha (`spacing`). On the Vase-Lion the true plane fits to 0.07-0.17 alpha from five views and the other
+// basins to 0.29 or more; a blob's planes drift off its axis. Deterministic.
 std::optional<MirrorPlane> mirror_plane(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                                         const TurningPart& part, double spacing, double limit);
 
