@@ -1104,8 +1104,8 @@ void keep_points(const std::vector<std::uint8_t>& keep, Index first, std::vector
 // Completion: where the exemplar does not repeat under turns about the template's axis but is its own mirror image
 // about a plane through it (mirror_plane: a lion's head), the exemplar mirrored takes the template's region it lands
 // on from the images, whose turns carry the lion's head where the model has its mane. Mirrored samples are added where
-// their source sample lands on the target (within `reach`) off what the exemplar covers, and no exemplar sample lies
-// within an alpha; the images' points that land within `reach` of them are removed.
+// their source sample lands on the target (within `reach`) and no exemplar sample lies within an alpha, so they also
+// fill the scan's own occlusion holes; the images' points that land within `reach` of them are removed.
 void replace_by_mirror(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                        const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
                        const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
@@ -1130,7 +1130,7 @@ void replace_by_mirror(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, co
     exemplar_tree.knn(m.apply(ep.col(e)), 1, &j, &d2);
     if (d2 <= near * near) return;
     target_tree.knn(landing.apply(in.source.positions().col(s)), 1, &j, &d2);
-    if (d2 <= reach * reach && !(in.covered && (*in.covered)[size_t(j)])) lands[size_t(e)] = j;
+    if (d2 <= reach * reach) lands[size_t(e)] = j;
   });
   std::vector<Index> kept;
   std::vector<Eigen::Vector3d> kept_landed;
