@@ -319,6 +319,29 @@ MirrorPlane icp_refined(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Ei
   return plane;
 }
 
+// Each start refined by icp_refined, and the best fit (mirror_misfit) of those that stay planes through the part's
+// axis (within kMostTilt of square to it and kMostOffset alphas of its point); none if none does.
+std::pair<std::optional<MirrorPlane>, std::pair<double, size_t>> best_refined(
+    const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& samples,
+    const TurningPart& part, const std::vector<MirrorPlane>& starts, double spacing, double off, double limit) {
+  const Eigen::Vector3d a = part.direction.normalized();
+  std::vector<MirrorPlane> refined(starts.size());
+  std::vector<std::pair<double, size_t>> fits(starts.size());
+  tbb::parallel_for(size_t(0), starts.size(), [&](size_t i) {
+    refined[i] = icp_refined(tree, ep, en, samples, starts[i], spacing, off, limit);
+    fits[i] = mirror_misfit(tree, ep, en, samples, refined[i], off, limit);
+  });
+  std::optional<MirrorPlane> best;
+  std::pair<double, size_t> best_fit{std::numeric_limits<double>::infinity(), 0};
+  for (size_t i = 0; i < starts.size(); ++i) {
+    const MirrorPlane& x = refined[i];
+    const bool through_axis = std::abs(x.normal.dot(a)) <= std::sin(kMostTilt) &&
+                              std::abs(x.normal.dot(x.point - part.point)) <= kMostOffset * spacing;
+    if (through_axis && better_fit(fits[i], best_fit)) best_fit = fits[i], best = x;
+  }
+  return {best, best_fit};
+}
+
 }  // namespace
 
 std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
@@ -421,30 +444,15 @@ std::optional<MirrorPlane> mirror_plane(const KdTree& tree, const Eigen::Matrix3
     return plane_at(part.point, u, v, PlaneAt{(k / kOffsets) * M_PI / kAngles, (k % kOffsets - 4) * 0.5}, spacing);
   };
   tbb::parallel_for(0, kAngles * kOffsets, [&](int k) { coarse[size_t(k)] = fit(coarse_at(k)); });
-  // Refined from each basin by ICP, and kept where it stays a plane through the axis.
-  const std::vector<int> basins = coarse_basins(coarse, kAngles, kOffsets, kBasins);
-  std::vector<MirrorPlane> refined(basins.size());
-  std::vector<std::pair<double, size_t>> fits(basins.size());
-  tbb::parallel_for(size_t(0), basins.size(), [&](size_t i) {
-    refined[i] = icp_refined(tree, ep, en, samples, coarse_at(basins[i]), spacing, off, limit);
-    fits[i] = fit(refined[i]);
-  });
-  std::optional<MirrorPlane> best;
-  std::pair<double, size_t> best_fit{std::numeric_limits<double>::infinity(), 0};
-  for (size_t i = 0; i < basins.size(); ++i) {
-    const MirrorPlane& x = refined[i];
-    const bool through_axis = std::abs(x.normal.dot(a)) <= std::sin(kMostTilt) &&
-                              std::abs(x.normal.dot(x.point - part.point)) <= kMostOffset * spacing;
-    if (through_axis && better_fit(fits[i], best_fit)) {
-      best_fit = fits[i];
-      best = x;
-    }
-  }
+  std::vector<MirrorPlane> starts;
+  for (const int k : coarse_basins(coarse, kAngles, kOffsets, kBasins)) starts.push_back(coarse_at(k));
+  const auto [best, best_fit] = best_refined(tree, ep, en, samples, part, starts, spacing, off, limit);
   const auto [misfit, pairs] = best_fit;
   if (!best || 5 * pairs < samples.size() || misfit > 0.25 * spacing) return std::nullopt;
-  best->misfit = misfit;
-  best->pairs = std::int64_t(pairs);
-  return best;
+  MirrorPlane out = *best;
+  out.misfit = misfit;
+  out.pairs = std::int64_t(pairs);
+  return out;
 }
 
 }  // namespace scanfill
