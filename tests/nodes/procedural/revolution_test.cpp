@@ -101,6 +101,25 @@ TEST(ProceduralRevolution, ACupGetsItsFloorButKeepsItsMouthOpen) {
   expect_capped(end_faces(bowl, kZ, kOrigin, true));
 }
 
+// A teapot-like model: a tube of radius 0.3 with a spout standing out at +x, drawn with many more vertices than the
+// tube. The body of revolution is fitted to the surface, not to the vertices (whose median radius the spout pulled out
+// to its own at its height), about the tube's axis, not the bounding box's centre (which the spout moves to +x).
+TEST(ProceduralRevolution, ASpoutDrawnFinelyWidensNeitherTheBodyNorMovesItsAxis) {
+  const Similarity along_x{Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix(),
+                           Eigen::Vector3d(0.45, 0, 0), 1.0};
+  const PointSet spout = transformed(make_cylinder(0.06, 0.3, 1024), along_x);
+  const PointSet teapot = merged(make_cylinder(0.3, 1.0, 64), spout);
+  ASSERT_GT(spout.size(), 4 * (teapot.size() - spout.size()));
+  const RevolutionAxis axis = revolution_axis(teapot);
+  EXPECT_GT(std::abs(axis.direction.z()), 0.999);
+  EXPECT_LT(axis.centre.head<2>().norm(), 0.01);
+  const PointSet body = make_revolution(teapot, axis);
+  for (Index i = 0; i < body.size(); ++i) {
+    const Eigen::Vector3d x = body.positions().col(i);
+    if (std::abs(x.z()) < 0.05) EXPECT_NEAR(x.head<2>().norm(), 0.3, 0.015) << "at height " << x.z();
+  }
+}
+
 TEST(ProceduralRevolution, TheRealCandleIsClosedAtItsFootOnly) {
   SCANFILL_REQUIRE_SHARED_DATA();
   // Drawn y-up: a flat round foot, and a wick that ends in a point.
