@@ -52,6 +52,7 @@ REAL_Y_UP = [
     ("real y-up: vase (text2mesh)", "text2mesh_vase.obj", "revolution:"),
     ("real y-up: candle (text2mesh)", "text2mesh_candle.obj", "revolution:"),
     ("real y-up: square pillar (3D scan, box template)", "threedscans_Column03.obj", "box:"),
+    ("real y-up: teapot", "teapot.obj", "revolution:"),
 ]
 
 # Issue 10's floors, per shape: on the procedural shapes (completions and two-body transfers) F@1% >= 0.95 on every

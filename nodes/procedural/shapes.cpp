@@ -405,11 +405,10 @@ std::vector<double> median_radii(std::vector<std::vector<double>>& bins) {
   return radius;
 }
 
-// How far the model is from a body of revolution about `axis`: the mean distance of its points from their height's
-// median radius, relative to the mean radius. Near 0 for a vase about its own axis; large about any other.
-double revolution_misfit(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, int rings) {
+// The mean distance of the model's points from their height's median radius about `axis`, and their mean radius.
+std::pair<double, double> ring_spread(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, int rings) {
   AxialSamples a = axial_samples(p, axis, rings);
-  if (!(a.height > 0)) return std::numeric_limits<double>::infinity();
+  if (!(a.height > 0) || p.cols() == 0) return {std::numeric_limits<double>::infinity(), 0};
   const std::vector<double> radius = median_radii(a.bins);
   double off = 0, sum = 0;
   for (size_t b = 0; b < a.bins.size(); ++b)
@@ -417,7 +416,14 @@ double revolution_misfit(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, 
       off += std::abs(r - radius[b]);
       sum += r;
     }
-  return sum > 0 ? off / sum : std::numeric_limits<double>::infinity();
+  return {off / double(p.cols()), sum / double(p.cols())};
+}
+
+// How far the model is from a body of revolution about `axis`: the mean distance of its points from their height's
+// median radius, relative to the mean radius. Near 0 for a vase about its own axis; large about any other.
+double revolution_misfit(const Eigen::Matrix3Xd& p, const RevolutionAxis& axis, int rings) {
+  const auto [spread, mean_radius] = ring_spread(p, axis, rings);
+  return mean_radius > 0 ? spread / mean_radius : std::numeric_limits<double>::infinity();
 }
 
 // The axes tried: z, x, y and the model's principal axes, each through the bounding box's centre.
@@ -568,27 +574,32 @@ int cap_rings(double radius, double spacing) {
   return std::max(1, int(std::lround(radius / spacing)));
 }
 
-// The axis moved across itself to where the model's rings' radii vary least (revolution_misfit): a pattern search from
-// a fiftieth of the model's diagonal down to a two-thousandth. The bounding box's centre, where the axes are tried, is
-// off the body's axis wherever a part stands out further on one side (a teapot's spout, 0.2 of its radius).
+// The axis moved across itself to where the model's points lie closest to their rings (ring_spread: not relative to
+// the mean radius, which an axis moved off the model makes large): a pattern search from a fiftieth of the model's
+// diagonal down to a two-thousandth, at most a tenth of the diagonal from where it started (else where it started). The
+// bounding box's centre, where the axes are tried, is off the body's axis wherever a part stands out further on one
+// side (a teapot's spout, 0.2 of its radius).
 RevolutionAxis centred(const Eigen::Matrix3Xd& p, RevolutionAxis axis, int rings) {
   const BoundingBox box = bounding_box(p);
   const double diagonal = (box.max - box.min).norm();
   const auto [u, v] = frame_across(axis.direction);
-  double best = revolution_misfit(p, axis, rings);
+  const Eigen::Vector3d start = axis.centre;
+  double best = ring_spread(p, axis, rings).first;
   for (double step = diagonal / 50; step > diagonal / 2000;) {
     bool moved = false;
     for (const Eigen::Vector3d& d : {u, Eigen::Vector3d(-u), v, Eigen::Vector3d(-v)}) {
       RevolutionAxis c = axis;
       c.centre += step * d;
-      if (const double m = revolution_misfit(p, c, rings); m < best) {
+      if ((c.centre - start).norm() > diagonal / 10) continue;
+      if (const double m = ring_spread(p, c, rings).first; m < best) {
         best = m, axis = c, moved = true;
         break;
       }
     }
     if (!moved) step /= 2;
   }
-  return axis;
+  // Pushed to the bound, the search found no centre (a lamp with three arms is round about none): keep the start.
+  return (axis.centre - start).norm() > 0.09 * diagonal ? RevolutionAxis{start, axis.direction} : axis;
 }
 
 }  // namespace
