@@ -600,9 +600,8 @@ constexpr double kMarkedlyRounder = 0.75;  // a centred axis is kept where the p
 // The axis moved across itself to where the model's points lie closest to their rings (ring_spread: not relative to
 // the mean radius, which an axis moved off the model makes large): a pattern search from a fiftieth of the model's
 // diagonal down to a two-thousandth, at most a tenth of the diagonal from where it started; kept where that cuts the
-// spread by a quarter (the teapot's by 45%), else where it started. The
-// bounding box's centre, where the axes are tried, is off the body's axis wherever a part stands out further on one
-// side (a teapot's spout, 0.2 of its radius).
+// spread by a quarter (the teapot's by 45%), else where it started. The bounding box's centre, where the axes are
+// tried, is off the body's axis wherever a part stands out further on one side (a teapot's spout, 0.2 of its radius).
 RevolutionAxis centred(const Eigen::Matrix3Xd& p, RevolutionAxis axis, int rings) {
   const BoundingBox box = bounding_box(p);
   const double diagonal = (box.max - box.min).norm();
@@ -629,25 +628,10 @@ RevolutionAxis centred(const Eigen::Matrix3Xd& p, RevolutionAxis axis, int rings
   return kept ? axis : RevolutionAxis{start, axis.direction};
 }
 
-}  // namespace
-
-RevolutionAxis revolution_axis(const PointSet& model, int rings) {
-  const Eigen::Matrix3Xd p = profile_points(model);
-  const std::vector<RevolutionAxis> axes = candidate_revolution_axes(p);
-  std::vector<double> misfit;
-  for (const auto& a : axes) misfit.push_back(revolution_misfit(p, a, rings));
-  const size_t best = size_t(std::min_element(misfit.begin(), misfit.end()) - misfit.begin());
-  // z, where it fits nearly as well: the axis the virtual scanner and the procedural shapes assume.
-  return centred(p, misfit[0] <= 1.05 * misfit[best] ? axes[0] : axes[best], rings);
-}
-
-PointSet make_revolution(const PointSet& model, int rings, int segments) {
-  if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
-  return make_revolution(model, revolution_axis(model, rings), rings, segments);
-}
-
-PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings, int segments) {
-  AxialSamples a = axial_samples(profile_points(model), axis, rings);
+// The body of revolution about `axis` fitted to the model's profile points (make_revolution).
+PointSet body_about(const PointSet& model, const Eigen::Matrix3Xd& profile, const RevolutionAxis& axis, int rings,
+                    int segments) {
+  AxialSamples a = axial_samples(profile, axis, rings);
   if (!(a.height > 0)) throw InputError("a body of revolution needs a model with some extent along its axis");
   const std::pair<Eigen::Vector3d, Eigen::Vector3d> frame = frame_across(axis.direction);
   const Eigen::Vector3d u = frame.first, v = frame.second;  // not a structured binding: clang cannot capture one
@@ -677,6 +661,40 @@ PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int 
            true);
   }
   return m.build();
+}
+
+// The axis of revolution_axis, found from the model's profile points.
+RevolutionAxis axis_of_profile(const Eigen::Matrix3Xd& p, int rings) {
+  const std::vector<RevolutionAxis> axes = candidate_revolution_axes(p);
+  std::vector<double> misfit;
+  for (const auto& a : axes) misfit.push_back(revolution_misfit(p, a, rings));
+  const size_t best = size_t(std::min_element(misfit.begin(), misfit.end()) - misfit.begin());
+  // z, where it fits nearly as well: the axis the virtual scanner and the procedural shapes assume.
+  return centred(p, misfit[0] <= 1.05 * misfit[best] ? axes[0] : axes[best], rings);
+}
+
+}  // namespace
+
+RevolutionAxis revolution_axis(const PointSet& model, int rings) {
+  return axis_of_profile(profile_points(model), rings);
+}
+
+PointSet make_revolution(const PointSet& model, int rings, int segments) {
+  return fit_revolution(model, rings, segments).body;
+}
+
+RevolutionFit fit_revolution(const PointSet& model, int rings, int segments) {
+  if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
+  const Eigen::Matrix3Xd p = profile_points(model);
+  RevolutionFit fit;
+  fit.axis = axis_of_profile(p, rings);
+  fit.body = body_about(model, p, fit.axis, rings, segments);
+  fit.misfit = revolution_misfit(p, fit.axis, rings);
+  return fit;
+}
+
+PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings, int segments) {
+  return body_about(model, profile_points(model), axis, rings, segments);
 }
 
 const std::vector<std::string>& shape_names() {

@@ -83,6 +83,16 @@ PointSet make_revolution(const PointSet& model, int rings = 128, int segments = 
 // The same about a given axis.
 PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings = 128, int segments = 256);
 
+// make_revolution's body, its axis, and how far the model is from it: the mean distance of the model's points from
+// their rings, relative to their mean radius (revolution_misfit). 0.06 for the text2mesh vase, 0.19 for its lamp,
+// whose three arms are round about no axis. The profile points are drawn once.
+struct RevolutionFit {
+  PointSet body;
+  RevolutionAxis axis;
+  double misfit = 0;
+};
+RevolutionFit fit_revolution(const PointSet& model, int rings = 128, int segments = 256);
+
 // The mesh moved by q (faces kept), and two meshes as one.
 PointSet transformed(const PointSet& mesh, const Similarity& q);
 PointSet merged(const PointSet& a, const PointSet& b);

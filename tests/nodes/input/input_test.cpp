@@ -57,6 +57,17 @@ TEST(Input, LoadsShapesAndBodiesOfRevolution) {
   EXPECT_LT(box.min.x(), box.max.x());
 }
 
+// An L-shaped box is round about no axis (its points lie 26% of their radius off their rings): its `revolution:`
+// template loads, with one warning that names the model. The vase's (1%) loads without.
+TEST(Input, WarnsWhenABodyOfRevolutionFitsTheModelBadly) {
+  const LoadResult l = load_input(parse_input("revolution:procedural:box_l"));
+  ASSERT_EQ(l.warnings.size(), 1u);
+  EXPECT_NE(l.warnings[0].find("procedural:box_l is far from a body of revolution"), std::string::npos)
+      << l.warnings[0];
+  EXPECT_GT(l.points.size(), 0);
+  EXPECT_TRUE(load_input(parse_input("revolution:procedural:vase")).warnings.empty());
+}
+
 TEST(Input, ABodyOfRevolutionTurnsAboutTheModelsOwnAxis) {
   // The vase drawn y-up, as many meshes are: its body of revolution is the z-up one turned the same way.
   const Similarity z_to_y{Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix(),
