@@ -13,6 +13,7 @@
 #include <random>
 
 #include "nodes/core/errors.h"
+#include "nodes/core/kdtree.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
@@ -663,6 +664,20 @@ PointSet body_about(const PointSet& model, const Eigen::Matrix3Xd& profile, cons
   return m.build();
 }
 
+// The mean distance of the points `from` to the nearest of the points `to`.
+double mean_distance(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+  KdTree tree;
+  tree.build(to);
+  double sum = 0;
+  for (Index i = 0; i < from.cols(); ++i) {
+    std::int32_t j;
+    double d2;
+    tree.knn(from.col(i), 1, &j, &d2);
+    sum += std::sqrt(d2);
+  }
+  return from.cols() > 0 ? sum / double(from.cols()) : 0.0;
+}
+
 // The axis of revolution_axis, found from the model's profile points.
 RevolutionAxis axis_of_profile(const Eigen::Matrix3Xd& p, int rings) {
   const std::vector<RevolutionAxis> axes = candidate_revolution_axes(p);
@@ -689,7 +704,7 @@ RevolutionFit fit_revolution(const PointSet& model, int rings, int segments) {
   RevolutionFit fit;
   fit.axis = axis_of_profile(p, rings);
   fit.body = body_about(model, p, fit.axis, rings, segments);
-  fit.misfit = revolution_misfit(p, fit.axis, rings);
+  fit.misfit = mean_distance(fit.body.positions(), p) / ring_spread(p, fit.axis, rings).second;
   return fit;
 }
 

@@ -57,8 +57,8 @@ TEST(Input, LoadsShapesAndBodiesOfRevolution) {
   EXPECT_LT(box.min.x(), box.max.x());
 }
 
-// An L-shaped box is round about no axis (its points lie 26% of their radius off their rings): its `revolution:`
-// template loads, with one warning that names the model. The vase's (1%) loads without.
+// An L-shaped box is round about no axis (its body of revolution lies 38% of its radius from it): its `revolution:`
+// template loads, with one warning that names the model. The vase's (1%) and the gear's (1%) load without.
 TEST(Input, WarnsWhenABodyOfRevolutionFitsTheModelBadly) {
   const LoadResult l = load_input(parse_input("revolution:procedural:box_l"));
   ASSERT_EQ(l.warnings.size(), 1u);
@@ -66,6 +66,7 @@ TEST(Input, WarnsWhenABodyOfRevolutionFitsTheModelBadly) {
       << l.warnings[0];
   EXPECT_GT(l.points.size(), 0);
   EXPECT_TRUE(load_input(parse_input("revolution:procedural:vase")).warnings.empty());
+  EXPECT_TRUE(load_input(parse_input("revolution:procedural:gear")).warnings.empty());
 }
 
 TEST(Input, ABodyOfRevolutionTurnsAboutTheModelsOwnAxis) {

@@ -132,9 +132,9 @@ TEST(ProceduralRevolution, TheCentringOfALampRoundAboutNoAxisStaysNearIt) {
   EXPECT_LT((off - off.dot(axis.direction) * axis.direction).norm(), 0.01);  // (the centre of its surface samples' box)
 }
 
-// How far real models are from their bodies of revolution (fit_revolution's misfit): the vase, candle, teapot and
-// Vase-Lion, which their templates complete better than the scan alone, under the 0.18 above which loading warns; the
-// lamp (whose template scores F 0.21-0.27 against 0.61-0.73 for the scan alone) and the bunny over it.
+// How far real models' bodies of revolution are from them (fit_revolution's misfit): the vase's, candle's, teapot's and
+// Vase-Lion's, which complete them better than the scan alone, under the 0.2 above which loading warns (0.01-0.10);
+// the lamp's (whose template scores F 0.21-0.27 against 0.61-0.73 for the scan alone) and the bunny's over it.
 TEST(ProceduralRevolution, TheMisfitSetsRoundModelsApartFromOthers) {
   SCANFILL_REQUIRE_SHARED_DATA();
   const auto misfit = [](const char* file) {
@@ -142,7 +142,8 @@ TEST(ProceduralRevolution, TheMisfitSetsRoundModelsApartFromOthers) {
   };
   for (const char* round : {"text2mesh_vase.obj", "text2mesh_candle.obj", "teapot.obj", "vaselion.obj"})
     EXPECT_LT(misfit(round), 0.15) << round;
-  for (const char* other : {"text2mesh_lamp.obj", "stanford-bunny.obj"}) EXPECT_GT(misfit(other), 0.19) << other;
+  for (const char* other : {"text2mesh_lamp.obj", "stanford-bunny.obj"}) EXPECT_GT(misfit(other), 0.25) << other;
+  EXPECT_LT(fit_revolution(make_gear()).misfit, 0.05);  // a disk's faces lie on its body's caps
 }
 
 TEST(ProceduralRevolution, TheRealCandleIsClosedAtItsFootOnly) {
