@@ -43,6 +43,8 @@ struct TurningPart {
 TurningPart part_holding(const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                          const Eigen::Matrix3Xd& positions, const std::vector<std::int32_t>& samples, double margin);
 
+constexpr int kRevolutionTurns = 8;  // a body of revolution fills with its turns by multiples of 45 degrees
+
 struct AxialRepeats {
   TurningPart part;                // the axis (point, direction) and the exemplar's part that turns about it
   double cut = 0;                  // height along the axis (from point) between the two bands
@@ -60,6 +62,15 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
 
 // The turn by `angle` (radians, right-handed about the direction) about the axis.
 Similarity turn_about(const AxialRepeats& r, double angle);
+
+// Per exemplar sample (ep, en; `tree` holds ep), 1 where it repeats with its band's order n: for n of 8 or more, its
+// image under a turn by 360 / n degrees one way or the other lies on the exemplar, within `limit` of a sample that
+// faces within 25 degrees and within half an alpha (`spacing`) of its plane. The rest is detail that the scan shows
+// once (a teapot's spout and handle), which the band's order does not turn: the teapot's facets repeat its body with
+// orders 23 and 47. Turns of 90 degrees or more and bodies of revolution are not checked (one view seldom sees both a
+// sample and its turned image): 1. 0 outside the part and in a band of order 0.
+std::vector<std::uint8_t> repeating_samples(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
+                                            const AxialRepeats& r, double spacing, double limit);
 
 // The band of a point: 0 below the cut, 1 at or above it.
 inline int band_of(const AxialRepeats& r, const Eigen::Vector3d& p) {

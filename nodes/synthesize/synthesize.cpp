@@ -991,8 +991,6 @@ void fill_holes(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eig
   }
 }
 
-constexpr int kRevolutionTurns = 8;  // a body of revolution fills with its turns by multiples of 45 degrees
-
 // Points kept at least `distance` apart, in a hash grid of cells `distance` wide.
 class SpacedPoints {
  public:
@@ -1032,8 +1030,8 @@ int most_common_label(const SynthesisInputs& in, const std::vector<std::int32_t>
 // Completion: the exemplar turned to its own repeats fills what neither it nor any image put a point near (within
 // an alpha): the hidden halves of a vase's beads seen from below, which other turns show whole, and the holes its
 // images left. Each band with an order n is turned by k 360 / n degrees (k = 1 .. n - 1), one patch per turn (labelled
-// as the region most of it lands on); a turned sample is added where its source sample lands on the target (within
-// `reach`) and no earlier addition lies within the same alpha.
+// as the region most of it lands on); a turned sample is added where it repeats (repeating_samples: not a teapot's
+// spout), its source sample lands on the target (within `reach`) and no earlier addition lies within the same alpha.
 void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                      const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
                      const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
@@ -1042,7 +1040,11 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
   KdTree placed_tree;
   placed_tree.build(placed);
   SpacedPoints added(fill);
-  for (const AxialRepeats& r : b.out.repeats)
+  KdTree exemplar_tree;
+  exemplar_tree.build(ep);
+  for (const AxialRepeats& r : b.out.repeats) {
+    const std::vector<std::uint8_t> repeating =
+        repeating_samples(exemplar_tree, ep, en, r, spacing, o.refine_distance * spacing);
     for (int band = 0; band < 2; ++band) {
       const int turns = r.continuous ? (band == 1 ? kRevolutionTurns : 0) : r.order[size_t(band)];
       for (int k = 1; k < turns; ++k) {
@@ -1051,7 +1053,7 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
         std::vector<std::int32_t> lands(size_t(ep.cols()), -1);  // the target sample a candidate lands on
         tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
           const auto s = in.exemplar_source[size_t(e)];
-          if (s < 0 || band_of(r, ep.col(e)) != band || !r.part.contains(ep.col(e))) return;
+          if (s < 0 || !repeating[size_t(e)] || band_of(r, ep.col(e)) != band) return;
           std::int32_t j;
           double d2;
           placed_tree.knn(turn.apply(ep.col(e)), 1, &j, &d2);
@@ -1073,6 +1075,7 @@ void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, cons
         b.out.repeat_fill += Index(kept.size());
       }
     }
+  }
 }
 
 // Keeps the points where `keep` is 1, and the landings of the synthesised ones (`landed`, one per point after the
