@@ -668,14 +668,12 @@ PointSet body_about(const PointSet& model, const Eigen::Matrix3Xd& profile, cons
 double mean_distance(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
   KdTree tree;
   tree.build(to);
+  std::vector<std::int32_t> nearest;
+  std::vector<double> d2;
+  nearest_each(tree, from, nearest, d2);
   double sum = 0;
-  for (Index i = 0; i < from.cols(); ++i) {
-    std::int32_t j;
-    double d2;
-    tree.knn(from.col(i), 1, &j, &d2);
-    sum += std::sqrt(d2);
-  }
-  return from.cols() > 0 ? sum / double(from.cols()) : 0.0;
+  for (const double d : d2) sum += std::sqrt(d);
+  return d2.empty() ? 0.0 : sum / double(d2.size());
 }
 
 // The axis of revolution_axis, found from the model's profile points.

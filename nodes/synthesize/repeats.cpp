@@ -414,31 +414,21 @@ Similarity turn_about(const AxialRepeats& r, double angle) {
   return turn(angle, r.part.point, r.part.direction);
 }
 
-namespace {
-
-// The turn by one repeat of the band that holds x, 360 / n degrees, where the exemplar can check it: not for n under
-// kLeastCheckedOrder (turns of 90 degrees or more, which from one view often land where the scan saw nothing on both
-// sides: the text2mesh vase's fourfold relief seen from below) nor a body of revolution (a table's leg seen from above,
-// in slivers between the top's shadow).
-std::optional<double> checked_step(const AxialRepeats& r, const Eigen::Vector3d& x) {
-  const int order = r.order[size_t(band_of(r, x))];
-  if (r.continuous || order < kLeastCheckedOrder) return std::nullopt;
-  return 2 * M_PI / order;
-}
-
-}  // namespace
-
 std::vector<std::uint8_t> repeating_samples(const KdTree& tree, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                                             const AxialRepeats& r, double spacing, double limit) {
   std::vector<std::uint8_t> repeats(size_t(ep.cols()), 0);
   tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
-    if (!r.part.contains(ep.col(e)) || (!r.continuous && r.order[size_t(band_of(r, ep.col(e)))] < 2)) return;
-    const std::optional<double> step = checked_step(r, ep.col(e));
-    if (!step) {
+    const int order = r.order[size_t(band_of(r, ep.col(e)))];
+    if (!r.part.contains(ep.col(e)) || (!r.continuous && order < 2)) return;
+    // Unchecked: turns of 90 degrees or more, which from one view often land where the scan saw nothing on both sides
+    // (the text2mesh vase's fourfold relief seen from below), and a body of revolution (a table's leg seen from above,
+    // in slivers under the top).
+    if (r.continuous || order < kLeastCheckedOrder) {
       repeats[size_t(e)] = 1;
       return;
     }
-    for (const double angle : {*step, -*step}) {
+    const double step = 2 * M_PI / order;
+    for (const double angle : {step, -step}) {
       const Similarity q = turn_about(r, angle);
       const Eigen::Vector3d facing = q.apply_normal(en.col(e));
       const auto d = plane_distance(tree, ep, en, q.apply(ep.col(e)), limit, &facing, kSameFacing);

@@ -1033,15 +1033,13 @@ int most_common_label(const SynthesisInputs& in, const std::vector<std::int32_t>
 // as the region most of it lands on); a turned sample is added where it repeats (repeating_samples: not a teapot's
 // spout), its source sample lands on the target (within `reach`) and no earlier addition lies within the same alpha.
 void fill_by_repeats(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
-                     const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
-                     const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
+                     const KdTree& exemplar_tree, const Eigen::Vector3d& offset, const KdTree& target_tree,
+                     double spacing, const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
   const double fill = 1.0 * spacing, reach = o.reach * spacing;
   const Eigen::Matrix3Xd placed = as_columns(b.p);
   KdTree placed_tree;
   placed_tree.build(placed);
   SpacedPoints added(fill);
-  KdTree exemplar_tree;
-  exemplar_tree.build(ep);
   for (const AxialRepeats& r : b.out.repeats) {
     const std::vector<std::uint8_t> repeating =
         repeating_samples(exemplar_tree, ep, en, r, spacing, o.refine_distance * spacing);
@@ -1110,15 +1108,13 @@ void keep_points(const std::vector<std::uint8_t>& keep, Index first, std::vector
 // their source sample lands on the target (within `reach`) and no exemplar sample lies within an alpha, so they also
 // fill the scan's own occlusion holes; the images' points that land within `reach` of them are removed.
 void replace_by_mirror(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
-                       const Eigen::Vector3d& offset, const KdTree& target_tree, double spacing,
-                       const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
+                       const KdTree& exemplar_tree, const Eigen::Vector3d& offset, const KdTree& target_tree,
+                       double spacing, const SynthesisOptions& o, std::vector<Eigen::Vector3d>& landed, Builder& b) {
   if (!in.mirror_axis) return;
   TurningPart axis = *in.mirror_axis;
   axis.point += offset;
   for (const AxialRepeats& r : b.out.repeats)
     if (std::abs(r.part.direction.dot(axis.direction)) >= std::cos(M_PI / 180)) return;  // turns do it
-  KdTree exemplar_tree;
-  exemplar_tree.build(ep);
   const auto plane = mirror_plane(exemplar_tree, ep, en, axis, spacing, o.refine_distance * spacing);
   if (!plane) return;
   b.out.mirror = plane;
@@ -1271,9 +1267,12 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     }
   }
 
-  if (in.covered && o.repeats) fill_by_repeats(in, ep, en, out.registration_offset, target_tree, spacing, o, landed, b);
+  KdTree exemplar_tree;  // what the repeats and the mirror are checked against
+  if (in.covered && (o.repeats || o.mirror)) exemplar_tree.build(ep);
+  if (in.covered && o.repeats)
+    fill_by_repeats(in, ep, en, exemplar_tree, out.registration_offset, target_tree, spacing, o, landed, b);
   if (in.covered && o.mirror)
-    replace_by_mirror(in, ep, en, out.registration_offset, target_tree, spacing, o, landed, b);
+    replace_by_mirror(in, ep, en, exemplar_tree, out.registration_offset, target_tree, spacing, o, landed, b);
   fill_holes(in, ep, en, inverse, out.registration_offset, region_size, target_tree, spacing, o, landed, b);
   const std::vector<std::uint8_t> reached = reached_targets(landed, T, o.gap_distance * spacing);
   const std::vector<std::uint8_t> overlaid = overlaid_targets(
