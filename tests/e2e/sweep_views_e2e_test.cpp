@@ -31,18 +31,16 @@ struct SweepRun {
 
 // Procedural `shape` completed with procedural `templ`, seen as in a robustness sweep's view: 2.6 diagonals away
 // along `view`, 480 x 480 at 30 degrees.
-SweepRun complete_from(const std::string& shape, const std::string& templ, const Eigen::Vector3d& view,
-                       bool parts = true) {
+SweepRun complete_seen(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
+                       const Eigen::Vector3d& centre, bool parts = true) {
   setup_logging(false, true);
   test::TempDir dir;
   const PointSet model = make_shape(shape), plain = make_shape(templ);
-  const BoundingBox box = bounding_box(model.positions());
-  const Eigen::Vector3d centre = (box.min + box.max) / 2;
   RunConfig c;
   c.mode = RunMode::kCompletion;
   c.inputs = {{Role::kScan, parse_input("procedural:" + shape)}, {Role::kTemplate, parse_input("procedural:" + templ)}};
   c.output_dir = dir / "out";
-  c.virtual_scan.eye = centre + 2.6 * box.diagonal() * view.normalized();
+  c.virtual_scan.eye = eye;
   c.virtual_scan.target = centre;
   c.virtual_scan.width = c.virtual_scan.height = 480;
   c.virtual_scan.fov_deg = 30;
@@ -55,6 +53,13 @@ SweepRun complete_from(const std::string& shape, const std::string& templ, const
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
   std::ifstream in(dir / "out" / "report.json");
   return {evaluate(output, model, {}, &scan, &plain), nlohmann::json::parse(in)};
+}
+
+SweepRun complete_from(const std::string& shape, const std::string& templ, const Eigen::Vector3d& view,
+                       bool parts = true) {
+  const BoundingBox box = bounding_box(make_shape(shape).positions());
+  const Eigen::Vector3d centre = (box.min + box.max) / 2;
+  return complete_seen(shape, templ, centre + 2.6 * box.diagonal() * view.normalized(), centre, parts);
 }
 
 TEST(TableLegs, TheLegsUnseenSidesGainTheTurnedDetailFromTurnsAboutEachLegsOwnAxis) {
@@ -89,6 +94,24 @@ TEST(TableLegs, SeenFromBehindTheTopsFlipsStayOnTheTop) {
   std::printf("table from behind: F %.3f unseen-detail %.3f\n", behind.result.fscore,
               behind.result.unseen_detail_recall.value_or(0));
   EXPECT_GE(behind.result.fscore, 0.95);
+}
+
+// Seen from (-0.2, -0.6, 0.9), a view the sweep does not use: two labels carry a row of legs onto the other, their
+// regions two legs and a strip of the top. Their overlap with the placed images is mostly the flat top, and the free
+// fit slid them along it, 19 alpha, for a 30% lower mean misfit: the legs stood beside the legs, F 0.943 (template
+// blending 0.953). A free fit that carries its image off the template is not taken where the exemplar sits on it.
+// The eye is the one bench/robustness.py puts there (its bounding box from 2000 samples); from the exact box, whose
+// centre is 0.2 mm lower, the fits do not slide.
+TEST(TableLegs, SeenFromAboveTheFrontTheRowsOfLegsStayOnTheLegs) {
+  const Eigen::Vector3d centre(0, 0, 0.3802285185083747);
+  const SweepRun high = complete_seen(
+      "table", "table_template", Eigen::Vector3d(-0.6579075587011587, -1.9737226761034758, 3.340812532663589), centre);
+  std::printf("table from (-0.2, -0.6, 0.9): F %.3f unseen-detail %.3f\n", high.result.fscore,
+              high.result.unseen_detail_recall.value_or(0));
+  const auto& shifts = high.report["synthesis"]["refinement_shift"];
+  for (size_t l = 0; l < shifts.size(); ++l) EXPECT_LT(shifts[l].get<double>(), 0.03) << "label " << l;
+  EXPECT_GE(high.result.fscore, 0.95);
+  EXPECT_GE(high.result.unseen_detail_recall.value_or(0), 0.85);
 }
 
 // The crate (relief on its four sides, plain top and bottom) with a plain 8-vertex box, seen from above (the sweep's
