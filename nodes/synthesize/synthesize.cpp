@@ -883,33 +883,31 @@ std::vector<std::uint8_t> reached_targets(const std::vector<Eigen::Vector3d>& la
   return reached;
 }
 
-// Per exemplar sample: the target sample nearest where `inv` carries its source sample, if within `reach` (else -1).
+// The target sample nearest where `inv` carries exemplar sample e's source sample, if within `reach` (else -1).
+std::int32_t landing_target(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree, double reach,
+                            Index e) {
+  const auto s = in.exemplar_source[size_t(e)];
+  if (s < 0) return -1;
+  std::int32_t t;
+  double d2;
+  target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
+  return d2 <= reach * reach ? t : -1;
+}
+
+// Per exemplar sample: landing_target.
 std::vector<std::int32_t> landing_targets(const SynthesisInputs& in, const Similarity& inv, const KdTree& target_tree,
                                           double reach) {
   std::vector<std::int32_t> nearest(size_t(in.exemplar.size()), -1);
-  tbb::parallel_for(Index(0), in.exemplar.size(), [&](Index e) {
-    const auto s = in.exemplar_source[size_t(e)];
-    if (s < 0) return;
-    std::int32_t t;
-    double d2;
-    target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
-    if (d2 <= reach * reach) nearest[size_t(e)] = t;
-  });
+  tbb::parallel_for(Index(0), in.exemplar.size(),
+                    [&](Index e) { nearest[size_t(e)] = landing_target(in, inv, target_tree, reach, e); });
   return nearest;
 }
 
 // The share of `used` (exemplar samples) whose source sample `inv` carries within `reach` of a target sample.
 double landed_share(const SynthesisInputs& in, const KdTree& target_tree, double reach, const Similarity& inv,
                     const std::vector<std::int32_t>& used) {
-  size_t landed = 0;
-  for (const std::int32_t e : used) {
-    const auto s = in.exemplar_source[size_t(e)];
-    if (s < 0) continue;
-    std::int32_t t;
-    double d2;
-    target_tree.knn(inv.apply(in.source.positions().col(s)), 1, &t, &d2);
-    landed += d2 <= reach * reach;
-  }
+  const auto landed = std::count_if(
+      used.begin(), used.end(), [&](std::int32_t e) { return landing_target(in, inv, target_tree, reach, e) >= 0; });
   return used.empty() ? 0.0 : double(landed) / double(used.size());
 }
 
