@@ -166,7 +166,7 @@ LoadedPtr load_stage(RunState& state, const Input& input) {
       throw InputError("output.colour is 'scan' but the " + role +
                        " has no colours (PLY red green blue, PCD rgb or rgba, XYZ or OBJ r g b): use auto or origin");
     const BoundingBox box = input_bounds(load);
-    auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box, nullptr});
+    auto loaded = std::make_shared<Loaded>(Loaded{input, std::move(load), box, nullptr, nullptr});
     for (const auto& w : loaded->load.warnings) state.warn(name, w);
     node_logger("load")->info("{}: {} points, {} faces ({} {}) from {}", role, loaded->load.points.size(),
                               loaded->load.points.faces().cols(), loaded->load.format, loaded->load.encoding, subject);
@@ -232,7 +232,7 @@ LoadedPtr load_curves_stage(RunState& state, const Input& input) {
     const BoundingBox box = input_bounds(load);
     node_logger("load")->info("{}: {} curves, {} vertices from {}", role, curves->size(), load.points.size(),
                               input_name(input.spec));
-    return LoadedPtr(std::make_shared<Loaded>(Loaded{input, std::move(load), box, std::move(curves)}));
+    return LoadedPtr(std::make_shared<Loaded>(Loaded{input, std::move(load), box, std::move(curves), nullptr}));
   });
 }
 
@@ -250,7 +250,7 @@ FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const Feat
     auto samples = std::make_shared<const CurveSamples>(sample_curves(*in->curves, spacing, config.curves));
     // The samples are the drawing's points from here on: transfer carries them, one output point each.
     LoadResult load{samples->samples, in->load.format, in->load.encoding, in->load.file_points, 0, {}};
-    auto loaded = std::make_shared<const Loaded>(Loaded{in->input, std::move(load), in->box, in->curves});
+    auto loaded = std::make_shared<const Loaded>(Loaded{in->input, std::move(load), in->box, in->curves, nullptr});
     SampleResult sample;
     sample.samples = samples->samples;
     sample.candidates = in->load.points.size();

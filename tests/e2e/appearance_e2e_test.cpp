@@ -92,7 +92,9 @@ TEST(Appearance, TheScansColoursAndIntensityReachTheOutputPointsTheyBecame) {
     ASSERT_LT(source, scan.size()) << i;
     ASSERT_EQ(out.intensity()(i), scan.intensity()(source)) << i << ": colour and intensity name different points";
     // A kept point is where its scan point is (in the scan's frame, to float32's rounding of the frame changes).
-    if (o == 0) ASSERT_LT((out.positions().col(i) - scan.positions().col(source)).norm(), 1e-5) << i;
+    if (o == 0) {
+      ASSERT_LT((out.positions().col(i) - scan.positions().col(source)).norm(), 1e-5) << i;
+    }
   }
   std::printf("output: %ld kept and %ld synthesised points with the scan's colours, %ld copied\n", long(from_scan[0]),
               long(from_scan[1]), long(copied));

@@ -62,8 +62,9 @@ TEST(ExchangeE2E, CastlesMatchTheStyledTargetsWithTowerStyleOnTowersAndWallStyle
       const bool along_y =
           b[1][1].get<double>() - b[0][1].get<double>() > b[1][0].get<double>() - b[0][0].get<double>();
       const bool source_along_y = exemplar == "castle_fort_b" && i == 3;
-      if (!target_towers[j])
+      if (!target_towers[j]) {
         EXPECT_NEAR(box["rotation_deg"].get<double>(), along_y == source_along_y ? 0 : 90, 1e-9) << target << j;
+      }
     }
   }
   std::cout << "exchange_castles: " << seconds << " s\n";

@@ -38,7 +38,8 @@ SweepRun complete_seen(const std::string& shape, const std::string& templ, const
   const PointSet model = make_shape(shape), plain = make_shape(templ);
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{Role::kScan, parse_input("procedural:" + shape)}, {Role::kTemplate, parse_input("procedural:" + templ)}};
+  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:" + shape)},
+              {.role = Role::kTemplate, .spec = parse_input("procedural:" + templ)}};
   c.output_dir = dir / "out";
   c.virtual_scan.eye = eye;
   c.virtual_scan.target = centre;

@@ -29,9 +29,9 @@ void two_disks_get_the_teeth(const std::string& target, const std::string& style
   test::TempDir dir;
   RunConfig c;
   c.mode = RunMode::kTransfer;
-  c.inputs = {{Role::kSource, parse_input("procedural:gear_template")},
-              {Role::kTarget, parse_input("procedural:" + target)},
-              {Role::kExemplar, parse_input("procedural:gear")}};
+  c.inputs = {{.role = Role::kSource, .spec = parse_input("procedural:gear_template")},
+              {.role = Role::kTarget, .spec = parse_input("procedural:" + target)},
+              {.role = Role::kExemplar, .spec = parse_input("procedural:gear")}};
   c.output_dir = dir / "out";
   run(c);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
@@ -61,8 +61,8 @@ TEST(Symmetry, ABoxTemplateGivesQuarterTurnsOnACrateSeenFromOneCorner) {
   test::TempDir dir;
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{Role::kScan, parse_input("procedural:crate")},
-              {Role::kTemplate, parse_input("procedural:crate_template")}};
+  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:crate")},
+              {.role = Role::kTemplate, .spec = parse_input("procedural:crate_template")}};
   c.output_dir = dir / "out";
   c.virtual_scan.eye = Eigen::Vector3d(2.1, -2.1, 1.6);  // the -y and +x sides and the top
   c.virtual_scan.target = Eigen::Vector3d(0, 0, 0.4);

@@ -17,8 +17,8 @@ namespace {
 RunConfig small_config(const std::filesystem::path& out) {
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{Role::kScan, parse_input("procedural:vase")},
-              {Role::kTemplate, parse_input("procedural:vase_template")}};
+  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:vase")},
+              {.role = Role::kTemplate, .spec = parse_input("procedural:vase_template")}};
   c.output_dir = out;
   c.sample.count = 3000;
   return c;
@@ -114,7 +114,7 @@ TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
   test::TempDir dir;
   test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");  // loads, too few to sample
   RunConfig c = small_config(dir / "out");
-  c.inputs[0] = {Role::kScan, parse_input("tiny.xyz", dir.path())};
+  c.inputs[0] = {.role = Role::kScan, .spec = parse_input("tiny.xyz", dir.path())};
   try {
     run(c);
     FAIL();

@@ -116,7 +116,9 @@ TEST(ProceduralRevolution, ASpoutDrawnFinelyWidensNeitherTheBodyNorMovesItsAxis)
   const PointSet body = make_revolution(teapot, axis);
   for (Index i = 0; i < body.size(); ++i) {
     const Eigen::Vector3d x = body.positions().col(i);
-    if (std::abs(x.z()) < 0.05) EXPECT_NEAR(x.head<2>().norm(), 0.3, 0.015) << "at height " << x.z();
+    if (std::abs(x.z()) < 0.05) {
+      EXPECT_NEAR(x.head<2>().norm(), 0.3, 0.015) << "at height " << x.z();
+    }
   }
 }
 

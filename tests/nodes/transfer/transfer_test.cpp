@@ -365,7 +365,9 @@ TEST(StreamPlan, ChunksOfAnySizeGiveTheWholeTransferInItsOrder) {
     expect_identical(s.out, whole);
     EXPECT_EQ(s.counts.faces, whole.points.faces().cols());
     EXPECT_EQ(s.counts.by_origin[0] + s.counts.by_origin[1] + s.counts.by_origin[2], whole.points.size());
-    if (chunk == 7) EXPECT_GT(s.runs, 100);  // many chunks
+    if (chunk == 7) {
+      EXPECT_GT(s.runs, 100);  // many chunks
+    }
   }
 }
 

@@ -80,7 +80,7 @@ struct Near {
   Index votes = 0;
   std::set<std::int32_t> voters;
 };
-Near near(const VoteResult& r, const Similarity& q, const VoteOptions& o, double radius) {
+Near near(const VoteResult& r, const Similarity& q, double radius) {
   const Eigen::Matrix<double, 13, 1> x = embed(q, r);
   Near out;
   for (Index v = 0; v < r.embedding.cols(); ++v)
@@ -108,7 +108,7 @@ TEST(Vote, EveryTargetSampleVotesOnceForTheKnownTransform) {
   EXPECT_EQ(r.pairs, r.embedding.cols());
   EXPECT_LE(r.pairs, 500 * 12 * 2);  // fewer: pairs of opposite bending or outside the scale range do not vote
   // Q = g^-1 exactly once per target sample (its own source sample, d1 unflipped), up to round-off.
-  const Near exact = near(r, kG.inverse(), o, 1e-6);
+  const Near exact = near(r, kG.inverse(), 1e-6);
   EXPECT_EQ(exact.votes, 500);
   EXPECT_EQ(exact.voters, range(0, 500));
 }
@@ -118,7 +118,7 @@ TEST(Vote, TheKnownTransformIsTheDensestVoteCluster) {
   const VoteOptions o;
   const VoteResult r = vote(S, T, kSpacing, o);
   const double bandwidth = 0.25;  // the modes node's default kernel radius
-  const Index at_truth = near(r, kG.inverse(), o, bandwidth).votes;
+  const Index at_truth = near(r, kG.inverse(), bandwidth).votes;
   EXPECT_EQ(at_truth, 400);  // random wrong votes do not fall near it either
   // No wrong vote has a tenth of that many votes around it.
   const auto truth = embed(kG.inverse(), r);
@@ -140,7 +140,7 @@ TEST(Vote, TwoCopiesVoteForTheirOwnTransforms) {
   const PointSet T = concatenated(moved(S, g1), moved(S, g2));
   const VoteOptions o;
   const VoteResult r = vote(S, T, kSpacing, o);
-  const Near first = near(r, g1.inverse(), o, 1e-6), second = near(r, g2.inverse(), o, 1e-6);
+  const Near first = near(r, g1.inverse(), 1e-6), second = near(r, g2.inverse(), 1e-6);
   EXPECT_EQ(first.votes, 300);
   EXPECT_EQ(second.votes, 300);
   // Each copy's samples vote for their own copy's transform, and only they.
@@ -157,18 +157,18 @@ TEST(Vote, ScalesOutsideTheRangeAreNotVotedFor) {
   const PointSet T = moved(S, g);
   VoteOptions o;
   const VoteResult r = vote(S, T, alpha, o);
-  EXPECT_EQ(near(r, g.inverse(), o, 1e-6).votes, 0);
+  EXPECT_EQ(near(r, g.inverse(), 1e-6).votes, 0);
   for (Index v = 0; v < r.embedding.cols(); ++v) {
     const double s = unembed(r.embedding.col(v), r).scale;
     EXPECT_GE(s, o.min_scale * (1 - 1e-12));
     EXPECT_LE(s, o.max_scale * (1 + 1e-12));
   }
   o.min_scale = 0.1;
-  EXPECT_EQ(near(vote(S, T, alpha, o), g.inverse(), o, 1e-6).votes, 200);
+  EXPECT_EQ(near(vote(S, T, alpha, o), g.inverse(), 1e-6).votes, 200);
 }
 
 // Votes whose rotation is R (the first nine embedding coordinates), whatever their translation and scale.
-Index with_rotation(const VoteResult& r, const Eigen::Matrix3d& R, const VoteOptions& o) {
+Index with_rotation(const VoteResult& r, const Eigen::Matrix3d& R) {
   const Eigen::Matrix<double, 13, 1> x = embed(Similarity{R, Eigen::Vector3d::Zero(), 1}, r);
   Index n = 0;
   for (Index v = 0; v < r.embedding.cols(); ++v) n += (r.embedding.col(v).head<9>() - x.head<9>()).norm() < 1e-6;
@@ -182,14 +182,14 @@ TEST(Vote, RigidVotesHaveUnitScaleAndNeedAgreeingCurvatures) {
   Similarity g = kG;
   g.scale = 1.0;
   const VoteResult r = vote(S, moved(S, g), kSpacing, o);
-  EXPECT_EQ(near(r, g.inverse(), o, 1e-6).votes, 200);
+  EXPECT_EQ(near(r, g.inverse(), 1e-6).votes, 200);
   for (Index v = 0; v < r.embedding.cols(); ++v) EXPECT_EQ(r.embedding(12, v), 0.0);  // log 1
   // A rigid vote needs curvatures within a ratio of 1.5: at scale 1.3 the true pairs still vote (with scale 1, so
   // only their rotation is right), at scale 2 they do not.
   g.scale = 1.3;
-  EXPECT_EQ(with_rotation(vote(S, moved(S, g), kSpacing, o), g.rotation.transpose(), o), 200);
+  EXPECT_EQ(with_rotation(vote(S, moved(S, g), kSpacing, o), g.rotation.transpose()), 200);
   g.scale = 2.0;
-  EXPECT_EQ(with_rotation(vote(S, moved(S, g), kSpacing, o), g.rotation.transpose(), o), 0);
+  EXPECT_EQ(with_rotation(vote(S, moved(S, g), kSpacing, o), g.rotation.transpose()), 0);
 }
 
 TEST(Vote, UmbilicsVoteWithFourRotations) {
@@ -206,7 +206,7 @@ TEST(Vote, UmbilicsVoteWithFourRotations) {
   const VoteResult r = vote(S, T, kSpacing, o);
   EXPECT_EQ(r.pairs, 100 * 4);
   // Only target sample 0 met its own source sample: one vote for g^-1, its own.
-  const Near exact = near(r, kG.inverse(), o, 1e-6);
+  const Near exact = near(r, kG.inverse(), 1e-6);
   EXPECT_EQ(exact.votes, 1);
   EXPECT_EQ(exact.voters, range(0, 1));
 }
@@ -253,7 +253,7 @@ TEST(Vote, TargetSamplesBoundsTheVotersAndTheSeedChoosesThem) {
   const VoteResult c = vote(S, S, kSpacing, o);
   EXPECT_NE(std::set<std::int32_t>(c.voter.begin(), c.voter.end()), va);
   // S against itself: the identity gets exactly one vote per voter.
-  EXPECT_EQ(near(a, Similarity{}, o, 1e-9).votes, 100);
+  EXPECT_EQ(near(a, Similarity{}, 1e-9).votes, 100);
 }
 
 TEST(Vote, TheEmbeddingFrameIsTheBoxOfBothShapes) {
