@@ -8,6 +8,7 @@
 #include "engine/config.h"
 #include "engine/console.h"
 #include "engine/pipeline.h"
+#include "input_util.h"
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/io/read_point_set.h"
@@ -27,8 +28,8 @@ RunConfig completion_config(const std::string& shape, const std::string& templ, 
                             const Eigen::Vector3d& target, const std::filesystem::path& out) {
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:" + shape)},
-              {.role = Role::kTemplate, .spec = parse_input("procedural:" + templ)}};
+  c.inputs = {test::input(Role::kScan, parse_input("procedural:" + shape)),
+              test::input(Role::kTemplate, parse_input("procedural:" + templ))};
   c.output_dir = out;
   c.virtual_scan.eye = eye;
   c.virtual_scan.target = target;
@@ -87,9 +88,9 @@ TEST(EndToEnd, FurnitureTransferGetsTheExemplarsLegsOnANewStructure) {
   test::TempDir dir;
   RunConfig c;
   c.mode = RunMode::kTransfer;
-  c.inputs = {{.role = Role::kSource, .spec = parse_input("procedural:table_template")},
-              {.role = Role::kTarget, .spec = parse_input("procedural:bench_template")},
-              {.role = Role::kExemplar, .spec = parse_input("procedural:table")}};
+  c.inputs = {test::input(Role::kSource, parse_input("procedural:table_template")),
+              test::input(Role::kTarget, parse_input("procedural:bench_template")),
+              test::input(Role::kExemplar, parse_input("procedural:table"))};
   c.output_dir = dir / "out";
   run(c);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
@@ -180,8 +181,8 @@ std::string refusal(const PointSet& scan, const PointSet& templ) {
   write_ply(dir / "template.ply", templ);
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{.role = Role::kScan, .spec = parse_input("scan.ply", dir.path())},
-              {.role = Role::kTemplate, .spec = parse_input("template.ply", dir.path())}};
+  c.inputs = {test::input(Role::kScan, parse_input("scan.ply", dir.path())),
+              test::input(Role::kTemplate, parse_input("template.ply", dir.path()))};
   c.output_dir = dir / "out";
   c.sample.count = 4000;
   try {

@@ -14,6 +14,7 @@
 #include "engine/config.h"
 #include "engine/console.h"
 #include "engine/pipeline.h"
+#include "input_util.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/input/input.h"
 #include "nodes/io/read_point_set.h"
@@ -38,8 +39,8 @@ SweepRun complete_seen(const std::string& shape, const std::string& templ, const
   const PointSet model = make_shape(shape), plain = make_shape(templ);
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:" + shape)},
-              {.role = Role::kTemplate, .spec = parse_input("procedural:" + templ)}};
+  c.inputs = {test::input(Role::kScan, parse_input("procedural:" + shape)),
+              test::input(Role::kTemplate, parse_input("procedural:" + templ))};
   c.output_dir = dir / "out";
   c.virtual_scan.eye = eye;
   c.virtual_scan.target = centre;

@@ -9,6 +9,7 @@
 #include "engine/config.h"
 #include "engine/console.h"
 #include "engine/pipeline.h"
+#include "input_util.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/input/input.h"
 #include "nodes/io/read_point_set.h"
@@ -29,9 +30,9 @@ void two_disks_get_the_teeth(const std::string& target, const std::string& style
   test::TempDir dir;
   RunConfig c;
   c.mode = RunMode::kTransfer;
-  c.inputs = {{.role = Role::kSource, .spec = parse_input("procedural:gear_template")},
-              {.role = Role::kTarget, .spec = parse_input("procedural:" + target)},
-              {.role = Role::kExemplar, .spec = parse_input("procedural:gear")}};
+  c.inputs = {test::input(Role::kSource, parse_input("procedural:gear_template")),
+              test::input(Role::kTarget, parse_input("procedural:" + target)),
+              test::input(Role::kExemplar, parse_input("procedural:gear"))};
   c.output_dir = dir / "out";
   run(c);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
@@ -61,8 +62,8 @@ TEST(Symmetry, ABoxTemplateGivesQuarterTurnsOnACrateSeenFromOneCorner) {
   test::TempDir dir;
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:crate")},
-              {.role = Role::kTemplate, .spec = parse_input("procedural:crate_template")}};
+  c.inputs = {test::input(Role::kScan, parse_input("procedural:crate")),
+              test::input(Role::kTemplate, parse_input("procedural:crate_template"))};
   c.output_dir = dir / "out";
   c.virtual_scan.eye = Eigen::Vector3d(2.1, -2.1, 1.6);  // the -y and +x sides and the top
   c.virtual_scan.target = Eigen::Vector3d(0, 0, 0.4);

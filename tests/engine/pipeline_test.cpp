@@ -7,6 +7,7 @@
 
 #include "engine/config.h"
 #include "engine/console.h"
+#include "input_util.h"
 #include "nodes/core/errors.h"
 #include "nodes/io/read_point_set.h"
 #include "test_util.h"
@@ -17,8 +18,8 @@ namespace {
 RunConfig small_config(const std::filesystem::path& out) {
   RunConfig c;
   c.mode = RunMode::kCompletion;
-  c.inputs = {{.role = Role::kScan, .spec = parse_input("procedural:vase")},
-              {.role = Role::kTemplate, .spec = parse_input("procedural:vase_template")}};
+  c.inputs = {test::input(Role::kScan, parse_input("procedural:vase")),
+              test::input(Role::kTemplate, parse_input("procedural:vase_template"))};
   c.output_dir = out;
   c.sample.count = 3000;
   return c;
@@ -114,7 +115,7 @@ TEST(Pipeline, AFailingNodeIsNamedOnceAndNothingIsWritten) {
   test::TempDir dir;
   test::write_bytes(dir / "tiny.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");  // loads, too few to sample
   RunConfig c = small_config(dir / "out");
-  c.inputs[0] = {.role = Role::kScan, .spec = parse_input("tiny.xyz", dir.path())};
+  c.inputs[0] = test::input(Role::kScan, parse_input("tiny.xyz", dir.path()));
   try {
     run(c);
     FAIL();
