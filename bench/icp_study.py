@@ -12,12 +12,13 @@ point-to-plane (the template's normals) with the same trim; pairs whose normals 
 scanfill's own motion to a few tenths of a degree on the gear seen edge-on (9.7 degrees here, scanfill 6.6-9.5).
 
 Variants (stop 33; see README, Robustness sweep):
-  base          the C++ as it is.
+  base          the C++ before stop 34.
   normals60     also drop point-to-plane pairs whose normals differ by more than 60 degrees.
   trusted-span  solve with every pair as base does, then keep only the part of each point-to-plane step that the
                 pairs with normals within 60 degrees constrain: the step is projected onto the eigenvectors of their
                 6x6 normal matrix (rotations scaled by the pairs' RMS radius) whose eigenvalue is at least tau times
-                the largest.
+                the largest, or at least 0.9 of the whole fit's stiffness along it. The C++ since stop 34
+                (nodes/core/icp.cpp).
 --classes prints, for the first point-to-plane steps, each class of pairs' share of the gradient.
 """
 import argparse
@@ -28,6 +29,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 ITERATIONS, TRIM, AGREE = 40, 3.0, 0.5  # steps, trim (x the median distance), cos 60 degrees
+SHARE = 0.9  # trusted-span: a motion only the trusted pairs hold is kept however weak
 
 
 def read_samples(path):
@@ -59,9 +61,11 @@ def point_to_plane(a, b, n, trusted, variant, tau, classes):
     if variant == "trusted-span":
         length = np.sqrt((p ** 2).sum(1).mean())
         scale = np.diag([length] * 3 + [1] * 3)
-        jt = jac[trusted] @ np.linalg.inv(scale)
+        jt, ja = jac[trusted] @ np.linalg.inv(scale), jac @ np.linalg.inv(scale)
+        ha = ja.T @ ja
         w, v = np.linalg.eigh(jt.T @ jt)
-        kept = v[:, w >= tau * w.max()]
+        whole = np.einsum("ik,ij,jk->k", v, ha, v) + 1e-9 * np.trace(ha) + 1e-300
+        kept = v[:, (w >= tau * w.max()) | (w >= SHARE * whole)]
         x = np.linalg.solve(scale, kept @ (kept.T @ (scale @ x)))
     if classes:
         for name, m in [("normals agree", trusted), ("normals differ > 60 deg", ~trusted)]:

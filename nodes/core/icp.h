@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <vector>
 
 #include "nodes/core/similarity.h"
 
@@ -13,8 +14,11 @@ namespace scanfill {
 
 // The pairs of one iteration: moved = q(from) for the current estimate q, their partners, and the partners' normals
 // (read by point-to-plane steps only). rms: the pairs' RMS distance, for the convergence test.
+// trusted (optional, one flag per pair): the pairs whose own normals agree with their partners'. When given, a
+// point-to-plane step still fits every pair, but moves only along the motions the trusted pairs constrain.
 struct IcpPairs {
   Eigen::Matrix3Xd moved, to, normals;
+  std::vector<char> trusted;
   double rms = 0;
 };
 

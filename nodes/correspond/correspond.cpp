@@ -43,6 +43,12 @@ double median(std::vector<double> v) {
 // registers it off the template by the relief's mean height (1 cm on the crate fixture, whose sides are half covered
 // by 2 cm of relief); rigid_fine_trim 1 keeps only the closer half, which fixes that scan but locks others onto their
 // relief layer (the gear's teeth), so the default keeps the mean (3). Rigid: the inputs share a scale.
+// Point-to-plane pairs whose normals agree within 60 degrees are trusted: the steps move only along the motions they
+// constrain (icp.h). The others still count in the fit (a gear's tooth flanks against a plain rim), but cannot pull
+// the scan along a motion only they decide: seen edge-on, its tooth roots pair with the faces of the template's
+// annulus and drag it along the axis.
+constexpr double kTrustedAgreement = 0.5;
+
 Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const CorrespondOptions& o,
                      double& rms) {
   const Eigen::Matrix3Xd& from = exemplar.positions();
@@ -58,10 +64,14 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
     const double trim = it >= coarse ? o.rigid_fine_trim : o.rigid_trim;
     const double limit = trim * trim * std::max(median(d2), 1e-300);
     keep.clear();
+    pairs.trusted.clear();
     for (size_t i = 0; i < idx.size(); ++i) {
       if (d2[i] > limit) continue;
-      if (oriented && q.apply_normal(exemplar.normals().col(Index(i))).dot(source.normals().col(idx[i])) < 0) continue;
+      const double agree =
+          oriented ? q.apply_normal(exemplar.normals().col(Index(i))).dot(source.normals().col(idx[i])) : 1.0;
+      if (agree < 0) continue;
       keep.push_back(Index(i));
+      if (oriented && it >= coarse) pairs.trusted.push_back(agree >= kTrustedAgreement);
     }
     Eigen::Matrix3Xd a(3, Index(keep.size())), b(3, Index(keep.size())), n(3, Index(keep.size()));
     double sum = 0;
