@@ -340,6 +340,13 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
 // How far a free fit may move a region the template pins before its landing on the template is checked, in alpha.
 constexpr double kFarSlide = 5.0;
 
+// The least registration offset applied, in alpha (applied_offset), and the least that has the refinement score its
+// candidates by truncated least squares (refine). Between the two, the offset is applied but the candidates are
+// scored by their mean misfit: the fluted column seen from straight above, 0.5 alpha off, kept its flips on the
+// bottom face that way (F 0.951), where truncated scoring slid them 2.7 cm up off it (0.715).
+constexpr double kLeastOffset = 0.3;
+constexpr double kTruncatingOffset = 1.25;
+
 // How far correction c moves a region (centre, radius): its centre's move plus its turn times its radius.
 double region_move(const Similarity& c, const Slippage& slip) {
   return (c.apply(slip.centre) - slip.centre).norm() + rotation_angle(c.rotation) * slip.radius;
@@ -593,6 +600,54 @@ std::optional<std::array<Similarity, 2>> turn_to_repeats(const AxialRepeats& r, 
   return band_inv;
 }
 
+// Whether the exemplar's repeats r fix the phase of the image q: q turns about their axis (turn_to_repeat applies with
+// either band's order).
+bool turns_about_repeats(const AxialRepeats& r, const Similarity& q, double most, double spacing) {
+  return turn_to_repeat(r, r.order[0], q, most, spacing) || turn_to_repeat(r, r.order[1], q, most, spacing);
+}
+
+// For an image q that turns the repeats' axis end over end (a half turn about a line across it: a gear's top face to
+// its bottom), q turned first about the axis, within half a period, to the phase whose image best meets the placed
+// images (truncated least squares, in 36ths of a period). The image itself may meet them nowhere: from the front, the
+// gear's flip carries its seen teeth to the back, where the scan saw nothing, and the refinement left its phase as
+// voted, teeth in the gaps (F 0.913). The exemplar's turns by whole periods carry it onto itself, so the image is
+// scored where one of them carries it back: the repeat that meets the placed images most. None when q does not
+// reverse the axis or the bands turn with different orders.
+std::optional<Similarity> flip_phase(const PlacedImages& placed, const AxialRepeats& r, const Similarity& q,
+                                     double spacing) {
+  const int order = r.order[0];
+  if (order < 2 || r.order[1] != order || r.continuous || std::abs(q.scale - 1) > 0.01) return std::nullopt;
+  const Eigen::Vector3d a = r.part.direction.normalized();
+  if ((q.rotation * a).dot(a) > -std::cos(2 * M_PI / 180)) return std::nullopt;
+  const Eigen::Vector3d moved = q.apply(r.part.point) - r.part.point;
+  if ((moved - a * a.dot(moved)).norm() > 0.5 * spacing) return std::nullopt;
+  const double period = 2 * M_PI / order;
+  Similarity back = q;
+  Index most = -1;
+  for (int k = 0; k < order; ++k) {
+    const Similarity c = turn_about(r, -k * period).compose(q);
+    if (const Index overlap = placed.overlap(c); overlap > most) {
+      most = overlap;
+      back = c;
+    }
+  }
+  constexpr int kSteps = 18;  // each way
+  std::array<std::pair<double, Index>, 2 * kSteps + 1> misfit;
+  Index pairs = 0;
+  for (int j = -kSteps; j <= kSteps; ++j) {
+    misfit[size_t(j + kSteps)] = placed.misfit(back.compose(turn_about(r, j * period / (2 * kSteps))));
+    pairs = std::max(pairs, misfit[size_t(j + kSteps)].second);
+  }
+  if (pairs < 30) return std::nullopt;
+  const auto score = [&](int j) {
+    return truncated_misfit(misfit[size_t(j)].first, misfit[size_t(j)].second, pairs, placed.limit2());
+  };
+  int best = 0;
+  for (int j = 1; j <= 2 * kSteps; ++j)
+    if (score(j) < score(best)) best = j;
+  return q.compose(turn_about(r, (best - kSteps) * period / (2 * kSteps)));
+}
+
 // The exemplar's image with each sample carried by its band's transform.
 void place_by_band(PlacedImages& placed, const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const AxialRepeats& r,
                    const std::array<Similarity, 2>& band_inv) {
@@ -768,9 +823,12 @@ Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matr
   return out;
 }
 
-// The registration offset the refinement applies: registration_offset's, where it is at least 1.25 alpha and explains
-// at least a third of the labels' misfit (truncated, against the same fit with d held at zero). A smaller offset each
-// label's own free fit corrects as well (the crate seen from the front, 0.7 alpha). Where the exemplar's detail does
+// The registration offset the refinement applies: registration_offset's, where it is at least kLeastOffset alpha and
+// explains at least a third of the labels' misfit (truncated, against the same fit with d held at zero). The fluted
+// column seen obliquely from behind registers 6.4 mm outward, pulled towards the template's wall from its flutes'
+// bottoms, and the fit finds 4.2 mm of it (0.42 alpha). A turn by 157.5 degrees doubles that on the far side, and
+// that label's own free fit, on its small overlap, ran off the template: F 0.959 with the 1.25 alpha this threshold
+// was, 1.000 now. Where the exemplar's detail does
 // not repeat under the template's turns (Vase-Lion's lion heads), the fit only moves misfit about: 0.98-1.84 of it,
 // against 0.03-0.07 on the gear and 0.36-0.51 on the crate seen from above and below.
 Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
@@ -778,7 +836,7 @@ Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<S
                                const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o) {
   const double limit2 = exemplar.limit2();
   const OffsetFit with = registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, relief);
-  if (with.d.norm() < 1.25 * spacing) return Eigen::Vector3d::Zero();
+  if (with.d.norm() < kLeastOffset * spacing) return Eigen::Vector3d::Zero();
   const OffsetFit without =
       registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, Eigen::Matrix3Xd(3, 0));
   const Index most = std::max(with.pairs, without.pairs);
@@ -793,11 +851,11 @@ using LandedShare = std::function<double(const Similarity& inv, const std::vecto
 // Refines each used transform's inverse (source -> target) against the exemplar images already placed: the anchor
 // (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
 // in phase along its slippable motions (`slips`, per label) and by rigid point-to-plane ICP on the overlap. With the
-// exemplar as the anchor, every transform is first conjugated by the exemplar's registration offset; where it moved
-// them, the refinement's candidates are scored by truncated least squares (see `refinement`). The slippable motions
-// stay about the template's centres: moved by the offset too, as the images' axes are, they were neutral on the
-// sweep but lost the gear seen from (-1, -0.3, 0.1), F 0.938 -> 0.833 (one label's phase 11.7 degrees, not 2.9, and
-// the labels fitted after it followed it).
+// exemplar as the anchor, every transform is first conjugated by the exemplar's registration offset; where that is
+// at least kTruncatingOffset, the refinement's candidates are scored by truncated least squares (see `refinement`). The
+// slippable motions stay about the template's centres: moved by the offset too, as the images' axes are, they were
+// neutral on the sweep but lost the gear seen from (-1, -0.3, 0.1), F 0.938 -> 0.833 (one label's phase 11.7 degrees,
+// not 2.9, and the labels fitted after it followed it).
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
             const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
@@ -824,7 +882,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     is_placed[biggest] = 1;
     --remaining;
   }
-  const bool truncated = !out.registration_offset.isZero();
+  const bool truncated = out.registration_offset.norm() >= kTruncatingOffset * spacing;
   RepeatsByAxis repeats(ep, en, spacing, o.refine_distance * spacing);
   for (; remaining > 0; --remaining) {
     placed.index();
@@ -832,14 +890,24 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     is_placed[best] = 1;
     const Slippage& slip = slips[best];
     const Similarity labelled = inv[best];
-    if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
-      const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
-      inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, landed).compose(inv[best]);
-      splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
-    }
     // Completion: the exemplar's own repeats about the axis fix the phase where they are clear.
     const auto axis = on_template && o.repeats ? turning_axis(slip, out.registration_offset) : std::nullopt;
     const AxialRepeats* r = axis ? repeats.about({axis->first, axis->second}) : nullptr;
+    if (const auto flipped = r ? flip_phase(placed, *r, labelled, spacing) : std::nullopt) {
+      inv[best] = *flipped;
+    } else if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
+      const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
+      inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, landed).compose(inv[best]);
+      splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
+      // The refinement can turn an image about a point off the axis to fit a small overlap (the gear from the front:
+      // 122.5 to 111.4 degrees, its axis moved 7.6 mm, teeth 3.4 degrees off on the far side); the repeats then fix
+      // the labelled transform's phase instead (126 degrees).
+      const double most = o.search_distance * spacing;
+      if (r && !turns_about_repeats(*r, inv[best], most, spacing) && turns_about_repeats(*r, labelled, most, spacing)) {
+        inv[best] = labelled;
+        splits[best].reset();
+      }
+    }
     const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, o, inv[best], splits[best]) : std::nullopt;
     if (splits[best]) {
       const auto& inv2 = splits[best]->inv;
