@@ -65,6 +65,13 @@ SweepRun complete_from(const std::string& shape, const std::string& templ, const
   return complete_seen(shape, templ, centre + 2.6 * box.diagonal() * view.normalized(), centre, parts);
 }
 
+// Prints the run's scores under `what` and expects at least `f` and `unseen` (F-score, unseen-detail recall).
+void expect_scores(const SweepRun& run, const char* what, double f, double unseen) {
+  std::printf("%s: F %.3f unseen-detail %.3f\n", what, run.result.fscore, run.result.unseen_detail_recall.value_or(0));
+  EXPECT_GE(run.result.fscore, f);
+  EXPECT_GE(run.result.unseen_detail_recall.value_or(0), unseen);
+}
+
 TEST(TableLegs, TheLegsUnseenSidesGainTheTurnedDetailFromTurnsAboutEachLegsOwnAxis) {
   const Eigen::Vector3d side(1, 0, 0.25);
   const SweepRun with = complete_from("table", "table_template", side, true);
@@ -140,12 +147,10 @@ TEST(Gear, SeenObliquelyTheScanRegistersOnTheAnnulussAxis) {
   const auto& offset = oblique.report["synthesis"]["registration_offset"];
   const double moved = std::hypot(t[0].get<double>(), t[1].get<double>());
   const double shift = std::hypot(offset[0].get<double>(), offset[1].get<double>());
-  std::printf("gear from the front, obliquely: F %.3f unseen-detail %.3f, registered %.4f off the axis, offset %.4f\n",
-              oblique.result.fscore, oblique.result.unseen_detail_recall.value_or(0), moved, shift);
+  std::printf("registered %.4f off the axis, offset %.4f\n", moved, shift);
   EXPECT_LT(moved, 0.005);
   EXPECT_LT(shift, 0.005);
-  EXPECT_GE(oblique.result.fscore, 0.98);
-  EXPECT_GE(oblique.result.unseen_detail_recall.value_or(0), 0.95);
+  expect_scores(oblique, "gear from the front, obliquely", 0.98, 0.95);
 }
 
 // Seen from the front, with the scan now on the axis, the gear's unseen back came from a half turn about a line across
@@ -153,11 +158,8 @@ TEST(Gear, SeenObliquelyTheScanRegistersOnTheAnnulussAxis) {
 // its phase as voted, teeth in the gaps, F 0.913. Its phase now comes from the scan's own repeats (flip_phase), and a
 // turn about the axis that the refinement moved off it goes back to the repeats' nearest phase.
 TEST(Gear, SeenFromTheFrontTheHalfTurnsTeethMeetTheTeeth) {
-  const SweepRun front = complete_from("gear", "gear_template", Eigen::Vector3d(0.0, -1.0, 0.2));
-  std::printf("gear from the front: F %.3f unseen-detail %.3f\n", front.result.fscore,
-              front.result.unseen_detail_recall.value_or(0));
-  EXPECT_GE(front.result.fscore, 0.98);
-  EXPECT_GE(front.result.unseen_detail_recall.value_or(0), 0.95);
+  expect_scores(complete_from("gear", "gear_template", Eigen::Vector3d(0.0, -1.0, 0.2)), "gear from the front", 0.98,
+                0.95);
 }
 
 // The fluted column (16 flutes) seen obliquely from behind: its repeats fitted 17 flutes below a cut and 16 above as
@@ -165,15 +167,12 @@ TEST(Gear, SeenFromTheFrontTheHalfTurnsTeethMeetTheTeeth) {
 // the bands must now fit clearly better. Its registration offset (4.2 mm, 0.42 alpha) is applied too: F 0.959 -> 1.
 TEST(FlutedColumn, SeenObliquelyFromBehindTheFlutesRepeatSixteenTimesAllTheWayUp) {
   const SweepRun behind = complete_from("column", "column_template", Eigen::Vector3d(-0.7, 0.7, 0.5));
-  std::printf("fluted column from behind, obliquely: F %.3f unseen-detail %.3f\n", behind.result.fscore,
-              behind.result.unseen_detail_recall.value_or(0));
   ASSERT_FALSE(behind.report["synthesis"]["repeats"].empty());
   for (const auto& r : behind.report["synthesis"]["repeats"]) {
     EXPECT_EQ(r["order_below_cut"].get<int>(), 16);
     EXPECT_EQ(r["order_above_cut"].get<int>(), 16);
   }
-  EXPECT_GE(behind.result.fscore, 0.98);
-  EXPECT_GE(behind.result.unseen_detail_recall.value_or(0), 0.95);
+  expect_scores(behind, "fluted column from behind, obliquely", 0.98, 0.95);
 }
 
 // The gear seen edge-on shows the scanner only its band of teeth. The rigid ICP paired the tooth roots near the faces
@@ -249,11 +248,8 @@ TEST(Vase, SeenFromBelowTheBeadsHiddenHalvesAreFilledByTheScansTurns) {
 // repeat every 18 degrees, and the scan's turns fill the wall (on the sweep's scan F 0.972, unseen-detail 0.90; here
 // 0.978 and 0.998).
 TEST(Gear, SeenFromAboveTheBackWallIsFilledByTheScansTurns) {
-  const SweepRun above = complete_from("gear", "gear_template", Eigen::Vector3d(0.25, -0.35, 1.0));
-  std::printf("gear from above: F %.3f unseen-detail %.3f\n", above.result.fscore,
-              above.result.unseen_detail_recall.value_or(0));
-  EXPECT_GE(above.result.fscore, 0.95);
-  EXPECT_GE(above.result.unseen_detail_recall.value_or(0), 0.85);
+  expect_scores(complete_from("gear", "gear_template", Eigen::Vector3d(0.25, -0.35, 1.0)), "gear from above", 0.95,
+                0.85);
 }
 
 // Seen from behind and above, the table's legs show their front halves; their backs were labelled for template copies
