@@ -54,7 +54,10 @@ Staging::Staging(const std::filesystem::path& output_dir) : output_dir_(output_d
   std::filesystem::path parent = std::filesystem::absolute(output_dir_, ec).parent_path();
   std::filesystem::create_directories(parent, ec);
   if (ec) throw IoError(parent.string() + ": cannot create the output folder's parent (" + ec.message() + ")");
-  folder_ = parent / ("." + output_dir_.filename().string() + ".scanfill-" + std::to_string(::getpid()));
+  // Appended, not "." + string: GCC 12 warns (-Wrestrict, a false positive) on that operator+ when LTO inlines it.
+  std::string hidden(".");
+  hidden.append(output_dir_.filename().string()).append(".scanfill-").append(std::to_string(::getpid()));
+  folder_ = parent / hidden;
   std::filesystem::remove_all(folder_, ec);
   if (!std::filesystem::create_directory(folder_, ec) || ec)
     throw IoError(folder_.string() + ": cannot create a folder beside the output folder (" + ec.message() + ")");
