@@ -9,9 +9,12 @@
 // can close the seams. Target regions labelled self-reference are copied as they are. A target sample whose own
 // region's image left a hole (no carried source sample lands within `reach`: the exemplar has nothing where its
 // transform maps it) is first filled by another used transform's image that does reach it (fill_holes in
-// synthesize.cpp); only what no transform reaches within `gap_distance` is copied from the target, with a count in the
-// result. Reaching is judged where the carried samples' source samples land, on the template, not where their relief
-// does: a gear's teeth stand 4 alpha off its plain disk.
+// synthesize.cpp). A target sample is copied from the target, with a count in the result, where no carried source
+// sample lands within `gap_distance` of it or no output point lies over it (within `overlay_distance` across its
+// normal and `gap_distance` along it), but not where the output points near its plane stand off it in relief (a
+// gear's teeth stand 4 alpha off its plain disk) or a relief facing its way lies sunk under it (up to three times
+// `gap_distance`: a real pillar's panels behind its bounding box). Reaching is judged where the carried samples'
+// source samples land, on the template, not where their relief does.
 //
 // The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
 // but the exemplar's detail (flutes, beads) repeats only at some angles. So, before carrying the exemplar, each
@@ -51,8 +54,8 @@ struct Patch {
 struct SynthesisOptions {
   double reach = 2.0;             // a mapped source sample belongs to a region within this many alpha; > 0
   int ring_k = 8;                 // kNN graph that defines a region's boundary ring; [0, 32] (0 = no overlap)
-  double gap_distance = 4.0;      // a target sample with no synthesised sample this close (alpha) is copied; > 0
-  double overlay_distance = 2.0;  // ... or with no synthesised point over it this close across its normal (alpha); > 0
+  double gap_distance = 4.0;      // copied unless an output point lies over it this close along its normal (alpha); > 0
+  double overlay_distance = 2.0;  // ... and this close across its normal (alpha); > 0
   int refine_iterations = 10;     // ICP steps refining each transform against the exemplar's overlapping images; >= 0
   double refine_distance = 3.0;   // ICP pairs closer than this, in alpha; > 0
   double search_distance = 15.0;  // slippable motions are searched this far (alpha) before ICP; >= 0

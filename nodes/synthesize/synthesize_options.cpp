@@ -26,10 +26,10 @@ OptionTable option_table(SynthesisOptions& sy) {
         "through it, its mirror image replaces the images where it lands",
         any()},
        {"gap_distance", &sy.gap_distance,
-        "a target sample no patch comes this close to (alpha) is copied from the target; > 0",
+        "a target sample is copied unless an output point lies over it this close along its normal (alpha; a relief "
+        "facing its way, three times this); > 0",
         positive(&sy.gap_distance)},
-       {"overlay_distance", &sy.overlay_distance,
-        "a target sample with no patch point over it this close across its normal (alpha) is copied; > 0",
+       {"overlay_distance", &sy.overlay_distance, "... and this close across its normal (alpha); > 0",
         positive(&sy.overlay_distance)}}};
 }
 
