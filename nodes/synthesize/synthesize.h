@@ -54,7 +54,7 @@ struct Patch {
 struct SynthesisOptions {
   double reach = 2.0;             // a mapped source sample belongs to a region within this many alpha; > 0
   int ring_k = 8;                 // kNN graph that defines a region's boundary ring; [0, 32] (0 = no overlap)
-  double gap_distance = 4.0;      // copied unless an output point lies over it this close along its normal (alpha); > 0
+  double gap_distance = 4.0;      // copied with no landed source sample or output point this close (alpha); > 0
   double overlay_distance = 2.0;  // ... and this close across its normal (alpha); > 0
   int refine_iterations = 10;     // ICP steps refining each transform against the exemplar's overlapping images; >= 0
   double refine_distance = 3.0;   // ICP pairs closer than this, in alpha; > 0

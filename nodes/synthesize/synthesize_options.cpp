@@ -26,8 +26,8 @@ OptionTable option_table(SynthesisOptions& sy) {
         "through it, its mirror image replaces the images where it lands",
         any()},
        {"gap_distance", &sy.gap_distance,
-        "a target sample is copied unless an output point lies over it this close along its normal (alpha; a relief "
-        "facing its way, three times this); > 0",
+        "a target sample no landed source sample or output point comes this close to (alpha, along its normal) is "
+        "copied, but not over a relief that faces its way sunk up to three times this; > 0",
         positive(&sy.gap_distance)},
        {"overlay_distance", &sy.overlay_distance, "... and this close across its normal (alpha); > 0",
         positive(&sy.overlay_distance)}}};
