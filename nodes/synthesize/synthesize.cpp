@@ -1092,7 +1092,8 @@ std::vector<std::uint8_t> overlaid_targets(const std::vector<Eigen::Vector3d>& p
 }
 
 // Completion, when the scan repeats about no axis (no repeats found): per exemplar sample, whether it stands more than
-// `height` off the template (moved by the registration `offset`). Such relief is the scan's own, not a style that
+// `height` out of the template, along the nearest template sample's normal (moved by the registration `offset`; sunk
+// relief, a pillar's panels behind its box, does not count). Such relief is the scan's own, not a style that
 // repeats (a teapot's spout 20 alpha off its body, seen from below), and no turn carries it (carried_by_turn): turned
 // about the body, it put spouts where the teapot has none (F 0.902, below template blending's 0.958). Empty when the
 // scan repeats or in transfer.
