@@ -23,7 +23,7 @@ namespace scanfill {
 namespace {
 
 std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
+  return test::quoted(p);
 }
 
 Eigen::Matrix<std::uint8_t, 3, 1> colour_of_index(Index i) {
