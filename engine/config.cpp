@@ -736,7 +736,7 @@ std::string default_config_yaml() {
     << "                            # curves: source, target, exemplar, each a drawing (.svg .txt .polyline)\n"
     << "                            # or procedural:NAME (" << join(shape_names()) << "),\n"
     << "                            # or revolution:FILE (the body of revolution of a model about its own axis),\n"
-    << "                            # or box:FILE (a model's axis-aligned bounding box): plain templates\n"
+    << "                            # or box:FILE (a model's bounding box, square to its faces): plain templates\n"
     << "                            # scan and exemplar may be a list of fragments, registered together\n"
     << "                            # exchange: exemplar and target, each a list of entries FILE, procedural:NAME\n"
     << "                            # or {path: FILE, name: NAME, boxes: [[[x, y, z], [x, y, z]], ...]}: the parts\n"

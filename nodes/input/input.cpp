@@ -1,5 +1,6 @@
 #include "nodes/input/input.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -7,6 +8,7 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/curves/curves.h"
+#include "nodes/input/box_axes.h"
 #include "nodes/procedural/shapes.h"
 
 namespace scanfill {
@@ -33,6 +35,15 @@ std::string poor_revolution_warning(const std::string& model, double misfit) {
     << "% of its radius from it on average, above " << std::lround(100 * kPoorRevolutionFit)
     << "%): the revolution: template lacks its structure, and a mesh template of that structure will complete it "
        "better";
+  return s.str();
+}
+
+// " (bounding box)", or with the turn of its axes from the model's when it lies turned (box_axes).
+std::string box_format(const Eigen::Matrix3d& axes) {
+  if (axes.isIdentity(0)) return " (bounding box)";
+  std::ostringstream s;
+  s << " (bounding box square to the faces, turned " << std::fixed << std::setprecision(1)
+    << Eigen::AngleAxisd(axes).angle() * 180 / M_PI << " degrees from the model's axes)";
   return s.str();
 }
 
@@ -124,10 +135,12 @@ LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
     InputSpec model = spec;
     model.box = false;
     LoadResult r = load_input(model, options);
-    const BoundingBox b = input_bounds(r);
+    const Eigen::Matrix3d axes = box_axes(r.points);
+    const BoundingBox b = bounding_box(axes.transpose() * r.points.positions());
     if (!((b.max - b.min).minCoeff() > 0)) throw InputError("a bounding box template needs a model with some volume");
     r.points = make_lowpoly_box(b.max - b.min, (b.min + b.max) / 2);
-    r.format += " (bounding box)";
+    r.points.set_positions(axes * r.points.positions());
+    r.format += box_format(axes);
     r.file_points = r.points.size();
     return r;
   }
