@@ -14,6 +14,8 @@
 
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/core/surface_elements.h"
+#include "nodes/procedural/normal_axis.h"
 #include "nodes/sample/sample.h"
 
 namespace scanfill {
@@ -676,6 +678,26 @@ double mean_distance(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
   return d2.empty() ? 0.0 : sum / double(d2.size());
 }
 
+constexpr int kSectors = 64;
+
+// The points of `body` in the sectors about the axis (kSectors of them) where `model` has points: a whole model's
+// body, or the half of it one view of a vase sees, with the body it has no view of left out.
+Eigen::Matrix3Xd seen_sectors(const Eigen::Matrix3Xd& body, const Eigen::Matrix3Xd& model, const RevolutionAxis& axis) {
+  const auto [u, v] = frame_across(axis.direction);
+  const auto sector = [&](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d d = x - axis.centre;
+    return std::clamp(int((std::atan2(d.dot(v), d.dot(u)) + M_PI) / (2 * M_PI) * kSectors), 0, kSectors - 1);
+  };
+  std::array<bool, kSectors> seen{};
+  for (Index i = 0; i < model.cols(); ++i) seen[size_t(sector(model.col(i)))] = true;
+  Eigen::Matrix3Xd out(3, body.cols());
+  Index n = 0;
+  for (Index i = 0; i < body.cols(); ++i)
+    if (seen[size_t(sector(body.col(i)))]) out.col(n++) = body.col(i);
+  out.conservativeResize(3, n);
+  return out;
+}
+
 // The axis of revolution_axis, found from the model's profile points.
 RevolutionAxis axis_of_profile(const Eigen::Matrix3Xd& p, int rings) {
   const std::vector<RevolutionAxis> axes = candidate_revolution_axes(p);
@@ -686,10 +708,27 @@ RevolutionAxis axis_of_profile(const Eigen::Matrix3Xd& p, int rings) {
   return centred(p, misfit[0] <= 1.05 * misfit[best] ? axes[0] : axes[best], rings);
 }
 
+constexpr double kMarkedlyNearer = 2;   // normals that meet an axis this many times better than the profile's ...
+constexpr double kNearerBySine = 0.02;  // ... and by this much more (sine): that axis
+
+// The axis of revolution_axis: axis_of_profile's, unless the model's normals meet another axis markedly better and its
+// rings are no less round about it. One view of a vase has its bounding box's centre off the axis, and the view
+// direction may fit its rings best. (Every complete model tried keeps its profile's axis: the Vase-Lion's normals meet
+// theirs 0.20 against 0.195, the lamp's 0.46 against 0.23 but within the margin.)
+RevolutionAxis model_axis(const PointSet& model, const Eigen::Matrix3Xd& p, int rings) {
+  const RevolutionAxis profile = axis_of_profile(p, rings);
+  const SurfaceElements surface = surface_elements(model);
+  if (surface.size() < 16) return profile;
+  const RevolutionAxis normals = centred(p, axis_from_normals(surface), rings);
+  const double by_profile = normal_axis_misfit(surface, profile), by_normals = normal_axis_misfit(surface, normals);
+  const bool nearer = by_profile > kMarkedlyNearer * by_normals + kNearerBySine;
+  return nearer && revolution_misfit(p, normals, rings) <= revolution_misfit(p, profile, rings) ? normals : profile;
+}
+
 }  // namespace
 
 RevolutionAxis revolution_axis(const PointSet& model, int rings) {
-  return axis_of_profile(profile_points(model), rings);
+  return model_axis(model, profile_points(model), rings);
 }
 
 PointSet make_revolution(const PointSet& model, int rings, int segments) {
@@ -700,9 +739,10 @@ RevolutionFit fit_revolution(const PointSet& model, int rings, int segments) {
   if (model.size() < 16) throw InputError("a body of revolution needs a model of at least 16 points");
   const Eigen::Matrix3Xd p = profile_points(model);
   RevolutionFit fit;
-  fit.axis = axis_of_profile(p, rings);
+  fit.axis = model_axis(model, p, rings);
   fit.body = body_about(model, p, fit.axis, rings, segments);
-  fit.misfit = mean_distance(fit.body.positions(), p) / ring_spread(p, fit.axis, rings).second;
+  fit.misfit =
+      mean_distance(seen_sectors(fit.body.positions(), p, fit.axis), p) / ring_spread(p, fit.axis, rings).second;
   return fit;
 }
 
