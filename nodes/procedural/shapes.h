@@ -71,7 +71,9 @@ struct RevolutionAxis {
 
 // The axis about which a model is most nearly a body of revolution: of z, x, y and the model's principal axes, each
 // through the centre of its bounding box, the one whose rings' radii vary least (z where it fits within 5% of the
-// best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up.
+// best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up. Where the model's
+// normals meet another axis more than twice as nearly (normal_axis.h) and its rings are no less round about it, that
+// axis: one view of a vase, whose bounding box's centre lies off its axis.
 RevolutionAxis revolution_axis(const PointSet& model, int rings = 128);
 
 // The body of revolution about the model's revolution_axis that best fits it: per height, the median distance of its
@@ -84,7 +86,9 @@ PointSet make_revolution(const PointSet& model, int rings = 128, int segments = 
 PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int rings = 128, int segments = 256);
 
 // make_revolution's body, its axis, and how far the body is from the model: the mean distance of the body's vertices
-// from the model's nearest point, relative to the model's mean distance from the axis. Where the model is round, the
+// from the model's nearest point, relative to the model's mean distance from the axis; only the vertices in the
+// sectors about the axis (of 64) where the model has points, so that one view's body is not scored on the side it
+// did not see. Where the model is round, the
 // body lies on it: 0.01 for the teapot and the gear, 0.03-0.04 for the text2mesh vase and candle, 0.10 for the
 // Vase-Lion (not round in section, 0.73 by 0.60). Where it is not, the body spreads over space the model leaves empty:
 // 0.50 for the text2mesh lamp (three arms), 0.28 for the bunny, 0.21 for the four-legged table. (The model's points'
