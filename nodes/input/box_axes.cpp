@@ -18,7 +18,7 @@ const double kPulls = std::cos(25 * M_PI / 180);  // a normal this near an axis 
 const double kHolds = std::cos(10 * M_PI / 180);  // and this near, counts for it
 constexpr double kKeepSquare = 0.97;
 
-// The frame each normal near an axis pulls towards itself, in kSteps orthogonal Procrustes steps.
+// The frame each normal near an axis pulls towards itself, in at most kSteps orthogonal Procrustes steps.
 Eigen::Matrix3d pulled_frame(const SurfaceElements& d, Eigen::Matrix3d R) {
   for (int step = 0; step < kSteps; ++step) {
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
@@ -31,7 +31,9 @@ Eigen::Matrix3d pulled_frame(const SurfaceElements& d, Eigen::Matrix3d R) {
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Matrix3d U = svd.matrixU();
     if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
-    R = U * svd.matrixV().transpose();
+    const Eigen::Matrix3d next = U * svd.matrixV().transpose();
+    if ((next - R).cwiseAbs().maxCoeff() < 1e-12) return next;  // settled: the same normals pull it again
+    R = next;
   }
   return R;
 }
