@@ -72,8 +72,8 @@ struct RevolutionAxis {
 // The axis about which a model is most nearly a body of revolution: of z, x, y and the model's principal axes, each
 // through the centre of its bounding box, the one whose rings' radii vary least (z where it fits within 5% of the
 // best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up. Where the model's
-// normals meet another axis more than twice as nearly (normal_axis.h) and its rings are no less round about it, that
-// axis: one view of a vase, whose bounding box's centre lies off its axis.
+// normals meet another axis more than twice as nearly (normal_axis.h), that axis: one view of a vase, whose
+// bounding box's centre lies off its axis.
 RevolutionAxis revolution_axis(const PointSet& model, int rings = 128);
 
 // The body of revolution about the model's revolution_axis that best fits it: per height, the median distance of its
