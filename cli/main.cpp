@@ -25,6 +25,7 @@
 #include "nodes/core/errors.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/input/input.h"
+#include "nodes/input/scan_alignment.h"
 #include "nodes/io/write_ply.h"
 #include "nodes/scan/virtual_scan.h"
 
@@ -93,9 +94,11 @@ int print_header_info(const std::string& file, const FileHeader& h, bool json) {
 
 // `info`: the header alone for PLY and PCD unless `full`; every point read otherwise (and for formats without one).
 int run_info(const std::string& file, bool json, bool full) {
-  if (!full)
+  const bool aligned = is_scan_alignment(file);  // a .conf: its range scans, posed
+  if (!full && !aligned)
     if (const std::optional<FileHeader> header = read_header(file)) return print_header_info(file, *header, json);
-  const LoadResult r = read_point_set(file, LoadOptions{.morton_sort = false});
+  const LoadOptions unsorted{.morton_sort = false};
+  const LoadResult r = aligned ? load_input(parse_input(file), unsorted) : read_point_set(file, unsorted);
   const PointSet& p = r.points;
   const BoundingBox box = bounding_box(p.positions());
   std::vector<std::string> attributes = p.attribute_names();
@@ -132,8 +135,7 @@ int run_info(const std::string& file, bool json, bool full) {
 int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
                int k) {
   const InputSpec spec = parse_input(input);
-  if (spec.procedural.empty() && !is_supported_extension(spec.path))
-    return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl or .xyz)", 2);
+  if (const auto problem = check_input(spec)) return fail(*problem, 2);
   if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
   SampleOptions so;
   so.spacing = spacing;

@@ -8,6 +8,7 @@
 #include "engine/fields.h"
 #include "engine/outputs.h"
 #include "nodes/core/errors.h"
+#include "nodes/input/scan_alignment.h"
 #include "nodes/io/read_part_labels.h"
 #include "nodes/io/read_ply_chunks.h"
 #include "nodes/procedural/castle.h"
@@ -113,7 +114,9 @@ constexpr Index kStreamedSummaryPoints = Index(1) << 21;
 // Whether the input is read in chunks (load.stream_above): a scan or exemplar that is one binary PLY of more points
 // than that, not virtually scanned, in a mode that carries it by the transfer.
 bool streams(const RunConfig& config, const Input& input) {
-  if (config.load.stream_above <= 0 || !input.fragments.empty() || input.spec.path.empty()) return false;
+  if (config.load.stream_above <= 0 || !input.fragments.empty() || input.spec.path.empty() ||
+      is_scan_alignment(input.spec.path))
+    return false;
   if (config.mode != RunMode::kCompletion && config.mode != RunMode::kTransfer) return false;
   if (input.role != Role::kScan && input.role != Role::kExemplar) return false;
   if (input.role == Role::kScan && config.virtual_scan.eye) return false;

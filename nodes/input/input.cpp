@@ -9,6 +9,7 @@
 #include "nodes/core/errors.h"
 #include "nodes/curves/curves.h"
 #include "nodes/input/box_axes.h"
+#include "nodes/input/scan_alignment.h"
 #include "nodes/procedural/shapes.h"
 
 namespace scanfill {
@@ -93,9 +94,9 @@ std::optional<std::string> check_input(const InputSpec& spec) {
   std::error_code ec;
   if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
   if (!std::filesystem::is_regular_file(spec.path, ec)) return "not a regular file: " + spec.path.string();
-  if (!is_supported_extension(spec.path))
+  if (!is_supported_extension(spec.path) && !is_scan_alignment(spec.path))
     return "unknown format '" + spec.path.extension().string() + "' of " + spec.path.string() +
-           " (expected .ply, .pcd, .obj, .off, .stl or .xyz)";
+           " (expected .ply, .pcd, .obj, .off, .stl, .xyz, or .conf for range scans and their poses)";
   return std::nullopt;
 }
 
@@ -118,6 +119,10 @@ std::string input_name(const InputSpec& spec) {
 BoundingBox input_bounds(const LoadResult& load) {
   return bounding_box(load.points.positions());
 }
+
+namespace {
+LoadResult load_aligned_scans(const std::filesystem::path& conf, const LoadOptions& options);
+}  // namespace
 
 LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
   if (spec.revolution) {
@@ -144,6 +149,7 @@ LoadResult load_input(const InputSpec& spec, const LoadOptions& options) {
     r.file_points = r.points.size();
     return r;
   }
+  if (spec.procedural.empty() && is_scan_alignment(spec.path)) return load_aligned_scans(spec.path, options);
   if (spec.procedural.empty()) return read_point_set(spec.path, options);
   LoadResult r;
   r.points = make_shape(spec.procedural);
@@ -208,6 +214,34 @@ PointSet join_points(const std::vector<LoadResult>& parts, std::vector<std::stri
   bool shared = true;
   for (const LoadResult& part : parts) shared = shared && part.points.viewpoint() == viewpoint;
   if (shared) joined.set_viewpoint(viewpoint);
+  return joined;
+}
+
+// A scan moved by its pose: positions, normals and the scanner's position.
+void move_scan(PointSet& points, const Similarity& pose) {
+  Eigen::Matrix3Xd p = pose.rotation * points.positions();
+  p.colwise() += pose.translation;
+  points.set_positions(std::move(p));
+  if (points.has_normals()) points.set_normals(pose.rotation * points.normals());
+  if (points.viewpoint()) points.set_viewpoint(pose.apply(*points.viewpoint()));
+}
+
+LoadResult load_aligned_scans(const std::filesystem::path& conf, const LoadOptions& options) {
+  const std::vector<ScanPose> scans = read_scan_alignment(conf);
+  std::vector<LoadResult> parts;
+  LoadResult joined;
+  for (const ScanPose& scan : scans) {
+    parts.push_back(read_point_set(scan.file, options));
+    LoadResult& part = parts.back();
+    move_scan(part.points, scan.pose);
+    for (const auto& w : part.warnings) joined.warnings.push_back("range scan " + scan.file.string() + ": " + w);
+    joined.file_points += part.file_points;
+    joined.dropped_nonfinite += part.dropped_nonfinite;
+  }
+  joined.points = join_points(parts, joined.warnings);
+  joined.format =
+      parts[0].format + " (" + std::to_string(scans.size()) + " range scans posed by " + conf.filename().string() + ")";
+  joined.encoding = parts[0].encoding;
   return joined;
 }
 
