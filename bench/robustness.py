@@ -124,7 +124,8 @@ def completion_case(exe, work, shape, model, template, view, preset, up="z"):
     scan = os.path.join(d, "scan.ply")
     run([exe, "scan", "--input", model, "--output", scan, "--eye", ",".join(map(str, eye)), "--target",
          ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"])
-    template = template.replace("SCAN", scan)
+    if template == "revolution:SCAN":
+        template = "revolution:" + scan
     cfg = os.path.join(d, "config.yaml")
     with open(cfg, "w") as f:
         f.write(f"mode: completion\ninputs:\n  scan: {scan}\n  template: {template}\noutput:\n  dir: {d}/out\n"

@@ -135,7 +135,8 @@ int run_info(const std::string& file, bool json, bool full) {
 int run_sample(const std::string& input, const std::string& output, double spacing, Index count, std::uint64_t seed,
                int k) {
   const InputSpec spec = parse_input(input);
-  if (const auto problem = check_input(spec)) return fail(*problem, 2);
+  if (spec.procedural.empty() && !is_supported_extension(spec.path) && !is_scan_alignment(spec.path))
+    return fail(input + ": unknown format (expected .ply, .pcd, .obj, .off, .stl, .xyz or .conf)", 2);
   if (std::filesystem::path(output).extension() != ".ply") return fail(output + ": the output must be a .ply file", 2);
   SampleOptions so;
   so.spacing = spacing;

@@ -34,13 +34,17 @@ SurfaceElements face_elements(const PointSet& mesh) {
 }
 
 // The direction in which a point and its neighbours (graph row `row`, -1 for none) spread least; zero when fewer than
-// three neighbours.
+// three neighbours. Summed relative to the point, so that coordinates far from the origin (a georeferenced scan) keep
+// their precision.
 Eigen::Vector3d flattest_direction(const Eigen::Matrix3Xd& P, Index i, const std::int32_t* row) {
-  Eigen::Vector3d sum = P.col(i);
-  Eigen::Matrix3d outer = P.col(i) * P.col(i).transpose();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   int n = 1;
   for (int k = 0; k < kNeighbours; ++k)
-    if (row[k] >= 0) sum += P.col(row[k]), outer += P.col(row[k]) * P.col(row[k]).transpose(), ++n;
+    if (row[k] >= 0) {
+      const Eigen::Vector3d d = P.col(row[k]) - P.col(i);
+      sum += d, outer += d * d.transpose(), ++n;
+    }
   if (n < 4) return Eigen::Vector3d::Zero();
   const Eigen::Vector3d mean = sum / n;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(outer / n - mean * mean.transpose());

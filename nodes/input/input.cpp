@@ -83,6 +83,30 @@ InputSpec parse_input(const std::string& text, const std::filesystem::path& base
   return spec;
 }
 
+namespace {
+
+// Why a .conf's scans cannot be loaded: the file's own problem, or the first listed scan that is missing or of a
+// format read_point_set does not read, named with its line.
+std::optional<std::string> check_aligned_scans(const std::filesystem::path& conf) {
+  std::vector<ScanPose> scans;
+  try {
+    scans = read_scan_alignment(conf);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  std::error_code ec;
+  for (const ScanPose& s : scans) {
+    const std::string at = conf.string() + ":" + std::to_string(s.line) + ": ";
+    if (!std::filesystem::is_regular_file(s.file, ec)) return at + "no such file: " + s.file.string();
+    if (!is_supported_extension(s.file))
+      return at + "unknown format '" + s.file.extension().string() + "' of " + s.file.string() +
+             " (expected .ply, .pcd, .obj, .off, .stl or .xyz)";
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<std::string> check_input(const InputSpec& spec) {
   if (!spec.procedural.empty()) {
     const auto& names = shape_names();
@@ -94,7 +118,8 @@ std::optional<std::string> check_input(const InputSpec& spec) {
   std::error_code ec;
   if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
   if (!std::filesystem::is_regular_file(spec.path, ec)) return "not a regular file: " + spec.path.string();
-  if (!is_supported_extension(spec.path) && !is_scan_alignment(spec.path))
+  if (is_scan_alignment(spec.path)) return check_aligned_scans(spec.path);
+  if (!is_supported_extension(spec.path))
     return "unknown format '" + spec.path.extension().string() + "' of " + spec.path.string() +
            " (expected .ply, .pcd, .obj, .off, .stl, .xyz, or .conf for range scans and their poses)";
   return std::nullopt;
@@ -231,7 +256,11 @@ LoadResult load_aligned_scans(const std::filesystem::path& conf, const LoadOptio
   std::vector<LoadResult> parts;
   LoadResult joined;
   for (const ScanPose& scan : scans) {
-    parts.push_back(read_point_set(scan.file, options));
+    try {
+      parts.push_back(read_point_set(scan.file, options));
+    } catch (const IoError& e) {
+      throw IoError(conf.string() + ":" + std::to_string(scan.line) + ": " + e.what());
+    }
     LoadResult& part = parts.back();
     move_scan(part.points, scan.pose);
     for (const auto& w : part.warnings) joined.warnings.push_back("range scan " + scan.file.string() + ": " + w);

@@ -1,8 +1,7 @@
 // One input of a run, as a user writes it (a config's inputs, `scanfill sample --input`, `scan --input`, `eval`):
 //
-//   FILE                  a point cloud or mesh (.ply .pcd .obj .off .stl .xyz), relative to `base`; or a
-//   scan-alignment
-//                         file (.conf, scan_alignment.h): its range scans, each moved by its pose, as one point set
+//   FILE                  a point cloud or mesh (.ply .pcd .obj .off .stl .xyz), relative to `base`; or a .conf
+//                         (scan_alignment.h): its range scans, each moved by its pose, as one point set
 //   procedural:NAME       a procedural shape (nodes/procedural/shapes.h)
 //   revolution:INPUT      the body of revolution of INPUT (a FILE or procedural:NAME) about its own axis: a template
 //   box:INPUT             the axis-aligned bounding box of INPUT, 8 vertices: the plain template of a box-like model

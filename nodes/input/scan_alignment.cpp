@@ -57,6 +57,7 @@ std::vector<ScanPose> read_scan_alignment(const std::filesystem::path& conf) {
     ScanPose s;
     s.file = conf.parent_path() / name;
     s.pose = pose_of(in, conf, line);
+    s.line = line;
     scans.push_back(std::move(s));
   }
   if (scans.empty()) throw IoError(conf.string() + ": lists no range scan (no 'bmesh FILE tx ty tz qi qj qk qr' line)");

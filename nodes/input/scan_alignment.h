@@ -5,7 +5,7 @@
 //   bmesh FILE tx ty tz qi qj qk qr  one range scan, FILE relative to the .conf's folder
 //
 // A scan's points go to the shared frame by the conjugate of the quaternion (qi qj qk qr, the real part last), then
-// the translation; checked on bun.conf: its ten scans then lie within 0.5 mm (median) of the reconstructed bunny.
+// the translation; checked on bun.conf: its ten scans then lie 0.6 mm (median) from the reconstructed bunny.
 #pragma once
 
 #include <filesystem>
@@ -18,6 +18,7 @@ namespace scanfill {
 struct ScanPose {
   std::filesystem::path file;  // resolved against the .conf's folder
   Similarity pose;             // from the scan's frame to the shared one
+  int line = 0;                // the .conf's line that lists it, for messages
 };
 
 // True for a path ending in .conf (any case).

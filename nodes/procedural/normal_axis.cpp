@@ -43,7 +43,7 @@ double weighted_median(const Eigen::VectorXd& value, const Eigen::VectorXd& weig
 }
 
 double spread(const SurfaceElements& s) {
-  return (s.points.rowwise().maxCoeff() - s.points.rowwise().minCoeff()).norm();
+  return bounding_box(s.points).diagonal();
 }
 
 // `a` pointing to the positive side of the coordinate it is largest in.
@@ -79,12 +79,13 @@ RevolutionAxis solve_axis(const SurfaceElements& s, const Eigen::VectorXd& w, co
 // sines' robust spread); its centre is the axis's point nearest the elements' mean.
 RevolutionAxis reweighted_axis(const SurfaceElements& surface, const Eigen::Vector3d& fixed) {
   const Eigen::Vector3d mean = surface.points * surface.weights / surface.weights.sum();
+  const double size = spread(surface);
   Eigen::VectorXd w = surface.weights;
   RevolutionAxis axis;
   for (int round = 0; round <= kReweightings; ++round) {
     axis = solve_axis(surface, w, mean, fixed);
     if (round == kReweightings) break;
-    const Eigen::VectorXd s = sines(surface, axis, spread(surface));
+    const Eigen::VectorXd s = sines(surface, axis, size);
     const double scale = std::max(1.4826 * weighted_median(s, surface.weights), 1e-3);
     for (Index i = 0; i < s.size(); ++i)
       w(i) = s(i) < 0 ? 0.0 : surface.weights(i) / (1 + (s(i) / (2 * scale)) * (s(i) / (2 * scale)));

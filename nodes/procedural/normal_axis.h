@@ -21,7 +21,8 @@ double normal_axis_misfit(const SurfaceElements& surface, const RevolutionAxis& 
 // a noisy vase fixes its direction only loosely (the free axis is 17 degrees off the text2mesh vase's). Relief can
 // pull the free axis across: a teapot's spout and handle to x (misfit 0.19 against y's 0.04), the Vase-Lion's face
 // seen from its side to x (0.30 against z's 0.34). The direction points to the positive side; the centre is the axis's
-// point nearest the elements' mean. Needs at least 16 elements not all parallel.
+// point nearest the elements' mean. Needs at least 16 elements (else throws InputError). Normals all parallel (a plane)
+// meet every axis along them: the result is one such axis, with misfit 0.
 RevolutionAxis axis_from_normals(const SurfaceElements& surface);
 
 }  // namespace scanfill

@@ -682,28 +682,34 @@ constexpr int kSectors = 64;
 constexpr double kWhole = 0.75;   // a model that covers this share of the sectors about an axis is seen all round
 constexpr double kFilled = 0.25;  // a sector is covered by a quarter of its share of the points
 
-// The sector about the axis (of kSectors) that `x` lies in.
-int sector_of(const Eigen::Vector3d& x, const RevolutionAxis& axis) {
-  const auto [u, v] = frame_across(axis.direction);
-  const Eigen::Vector3d d = x - axis.centre;
-  return std::clamp(int((std::atan2(d.dot(v), d.dot(u)) + M_PI) / (2 * M_PI) * kSectors), 0, kSectors - 1);
-}
-
-// The sectors about the axis where `model` has points.
-std::array<bool, kSectors> sectors_seen(const Eigen::Matrix3Xd& model, const RevolutionAxis& axis) {
-  std::array<bool, kSectors> seen{};
-  for (Index i = 0; i < model.cols(); ++i) seen[size_t(sector_of(model.col(i), axis))] = true;
-  return seen;
-}
+// The sectors about an axis (kSectors of them), with the frame across it computed once.
+struct Sectors {
+  explicit Sectors(const RevolutionAxis& a) : axis(a), frame(frame_across(a.direction)) {}
+  int of(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d d = x - axis.centre;
+    const double angle = std::atan2(d.dot(frame.second), d.dot(frame.first));
+    return std::clamp(int((angle + M_PI) / (2 * M_PI) * kSectors), 0, kSectors - 1);
+  }
+  // How many of `points` lie in each sector.
+  std::array<Index, kSectors> counts(const Eigen::Matrix3Xd& points) const {
+    std::array<Index, kSectors> n{};
+    for (Index i = 0; i < points.cols(); ++i) ++n[size_t(of(points.col(i)))];
+    return n;
+  }
+  RevolutionAxis axis;
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> frame;
+};
 
 // The points of `body` in the sectors about the axis where `model` has points: a whole model's body, or the half of
 // it one view of a vase sees, with the body it has no view of left out.
 Eigen::Matrix3Xd seen_sectors(const Eigen::Matrix3Xd& body, const Eigen::Matrix3Xd& model, const RevolutionAxis& axis) {
-  const std::array<bool, kSectors> seen = sectors_seen(model, axis);
+  const Sectors sectors(axis);
+  const std::array<Index, kSectors> seen = sectors.counts(model);
   Eigen::Matrix3Xd out(3, body.cols());
   Index n = 0;
   for (Index i = 0; i < body.cols(); ++i)
-    if (seen[size_t(sector_of(body.col(i), axis))]) out.col(n++) = body.col(i);
+    if (seen[size_t(sectors.of(body.col(i)))] > 0) out.col(n++) = body.col(i);
+  if (n == 0) return body;  // (a body of fewer segments than sectors)
   out.conservativeResize(3, n);
   return out;
 }
@@ -712,8 +718,7 @@ Eigen::Matrix3Xd seen_sectors(const Eigen::Matrix3Xd& body, const Eigen::Matrix3
 // spread would give it: one view of a vase that sees its far wall through its mouth, or its whole rim, covers every
 // sector, but sparsely where it did not look.
 bool seen_all_round(const Eigen::Matrix3Xd& model, const RevolutionAxis& axis) {
-  std::array<Index, kSectors> count{};
-  for (Index i = 0; i < model.cols(); ++i) ++count[size_t(sector_of(model.col(i), axis))];
+  const std::array<Index, kSectors> count = Sectors(axis).counts(model);
   const double filled = kFilled * double(model.cols()) / kSectors;
   return std::count_if(count.begin(), count.end(), [&](Index c) { return double(c) >= filled; }) >= kWhole * kSectors;
 }

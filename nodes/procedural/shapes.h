@@ -71,9 +71,10 @@ struct RevolutionAxis {
 
 // The axis about which a model is most nearly a body of revolution: of z, x, y and the model's principal axes, each
 // through the centre of its bounding box, the one whose rings' radii vary least (z where it fits within 5% of the
-// best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up. Where the model's
-// normals meet another axis more than twice as nearly (normal_axis.h), that axis: one view of a vase, whose
-// bounding box's centre lies off its axis.
+// best, as the procedural shapes and the virtual scanner assume). Many meshes are drawn y-up. The axis the model's
+// normals meet (normal_axis.h) instead where they meet it more than twice as nearly, or where the model is seen from
+// one side (fewer than 3/4 of 64 sectors about that axis hold a quarter of an even share of its points) and they meet
+// it no more than 25% worse: one view of a vase, whose bounding box's centre lies off its axis.
 RevolutionAxis revolution_axis(const PointSet& model, int rings = 128);
 
 // The body of revolution about the model's revolution_axis that best fits it: per height, the median distance of its
