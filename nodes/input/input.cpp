@@ -85,6 +85,19 @@ InputSpec parse_input(const std::string& text, const std::filesystem::path& base
 
 namespace {
 
+// Why `path` is no file to read: missing, or not a regular file.
+std::optional<std::string> check_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return "no such file: " + path.string();
+  if (!std::filesystem::is_regular_file(path, ec)) return "not a regular file: " + path.string();
+  return std::nullopt;
+}
+
+// "CONF:LINE: ", where a .conf lists a scan.
+std::string listed_at(const std::filesystem::path& conf, const ScanPose& scan) {
+  return conf.string() + ":" + std::to_string(scan.line) + ": ";
+}
+
 // Why a .conf's scans cannot be loaded: the file's own problem, or the first listed scan that is missing or of a
 // format read_point_set does not read, named with its line.
 std::optional<std::string> check_aligned_scans(const std::filesystem::path& conf) {
@@ -94,12 +107,10 @@ std::optional<std::string> check_aligned_scans(const std::filesystem::path& conf
   } catch (const IoError& e) {
     return e.what();
   }
-  std::error_code ec;
   for (const ScanPose& s : scans) {
-    const std::string at = conf.string() + ":" + std::to_string(s.line) + ": ";
-    if (!std::filesystem::is_regular_file(s.file, ec)) return at + "no such file: " + s.file.string();
+    if (const auto problem = check_file(s.file)) return listed_at(conf, s) + *problem;
     if (!is_supported_extension(s.file))
-      return at + "unknown format '" + s.file.extension().string() + "' of " + s.file.string() +
+      return listed_at(conf, s) + "unknown format '" + s.file.extension().string() + "' of " + s.file.string() +
              " (expected .ply, .pcd, .obj, .off, .stl or .xyz)";
   }
   return std::nullopt;
@@ -115,9 +126,7 @@ std::optional<std::string> check_input(const InputSpec& spec) {
     for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
     return "unknown procedural shape '" + spec.procedural + "' (valid: " + valid + ")";
   }
-  std::error_code ec;
-  if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
-  if (!std::filesystem::is_regular_file(spec.path, ec)) return "not a regular file: " + spec.path.string();
+  if (const auto problem = check_file(spec.path)) return problem;
   if (is_scan_alignment(spec.path)) return check_aligned_scans(spec.path);
   if (!is_supported_extension(spec.path))
     return "unknown format '" + spec.path.extension().string() + "' of " + spec.path.string() +
@@ -128,9 +137,7 @@ std::optional<std::string> check_input(const InputSpec& spec) {
 std::optional<std::string> check_drawing_input(const InputSpec& spec) {
   if (!spec.procedural.empty() || spec.revolution || spec.box)
     return "mode curves reads drawings from files (.svg, .txt or .polyline), got '" + spec.text + "'";
-  std::error_code ec;
-  if (!std::filesystem::exists(spec.path, ec)) return "no such file: " + spec.path.string();
-  if (!std::filesystem::is_regular_file(spec.path, ec)) return "not a regular file: " + spec.path.string();
+  if (const auto problem = check_file(spec.path)) return problem;
   if (!is_curve_extension(spec.path))
     return "unknown drawing format '" + spec.path.extension().string() + "' of " + spec.path.string() +
            " (expected .svg, .txt or .polyline)";
@@ -259,7 +266,7 @@ LoadResult load_aligned_scans(const std::filesystem::path& conf, const LoadOptio
     try {
       parts.push_back(read_point_set(scan.file, options));
     } catch (const IoError& e) {
-      throw IoError(conf.string() + ":" + std::to_string(scan.line) + ": " + e.what());
+      throw IoError(listed_at(conf, scan) + e.what());
     }
     LoadResult& part = parts.back();
     move_scan(part.points, scan.pose);
