@@ -15,9 +15,10 @@ struct SurfaceElements {
   Index size() const { return points.cols(); }
 };
 
-// A mesh's faces (centroid, normal, area; degenerate faces left out). A point set's points, at most `most` of them
-// evenly strided, each with the file's normal where it has them, else the direction in which the point and its 12
-// nearest neighbours spread least (weight 1; a point with fewer than 3 neighbours is left out). Deterministic.
+// A mesh's faces (centroid, normal, area; degenerate faces left out). A point set's points, about `most` of them, each
+// with the file's normal where it has them (evenly strided), else the direction in which the point and its 12
+// nearest neighbours spread least (the first point of each cell of a grid sized for at most 4000 of them; weight 1; a
+// point with fewer than 3 neighbours is left out). Deterministic.
 SurfaceElements surface_elements(const PointSet& model, Index most = 20000);
 
 }  // namespace scanfill
