@@ -27,6 +27,7 @@
 #include "nodes/input/input.h"
 #include "nodes/input/scan_alignment.h"
 #include "nodes/io/write_ply.h"
+#include "nodes/scan/crop.h"
 #include "nodes/scan/virtual_scan.h"
 
 namespace {
@@ -341,6 +342,71 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& a, CommonFlags& common) {
   return cmd;
 }
 
+struct CropArgs {
+  std::string input, output, box;
+  bool drop_plane = false, largest_part = false;
+  double plane_distance = 0, gap = 0;
+  std::uint64_t seed = 1;
+};
+
+CLI::App* add_crop_command(CLI::App& app, CropArgs& a, CommonFlags& common) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  CLI::App* cmd = app.add_subcommand(
+      "crop", "one object cut out of a scanned scene: a box, the table it stands on dropped, its largest part kept");
+  cmd->add_option("--input", a.input, "the scene (any point file, or a .conf of range scans)")->required();
+  cmd->add_option("--output", a.output, "output .ply: the kept points with every attribute")->required();
+  cmd->add_option("--box", a.box, "keep the points inside XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (the scene's coordinates)");
+  cmd->add_flag("--drop-plane", a.drop_plane, "drop the largest plane (the table the object stands on)");
+  cmd->add_flag("--largest-part", a.largest_part, "keep the largest connected part");
+  cmd->add_option("--plane-distance", a.plane_distance, "the plane's inliers lie closer (default: 2 x median spacing)")
+      ->check(number_in(0, kMax, true));
+  cmd->add_option("--gap", a.gap, "parts are joined across shorter gaps (default: 4 x median spacing)")
+      ->check(number_in(0, kMax, true));
+  cmd->add_option("--seed", a.seed, "RANSAC's seed");
+  add_common_flags(cmd, common);
+  return cmd;
+}
+
+// The scene's points in the box, off its largest plane, in its largest part (nodes/scan/crop.h).
+int run_crop(const CropArgs& a) {
+  CropOptions o;
+  if (!a.box.empty()) {
+    BoundingBox b;
+    char extra;
+    if (std::sscanf(a.box.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &b.min.x(), &b.min.y(), &b.min.z(), &b.max.x(),
+                    &b.max.y(), &b.max.z(), &extra) != 6 ||
+        !b.min.allFinite() || !b.max.allFinite())
+      return fail("crop: --box expects XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX, got '" + a.box + "'", 2);
+    if (!(b.min.array() <= b.max.array()).all())
+      return fail("crop: --box's minimum exceeds its maximum on an axis: '" + a.box + "'", 2);
+    o.box = b;
+  }
+  if (!o.box && !a.drop_plane && !a.largest_part)
+    return fail("crop: nothing to do: give --box, --drop-plane or --largest-part", 2);
+  if (std::filesystem::path(a.output).extension() != ".ply")
+    return fail(a.output + ": the output must be a .ply file", 2);
+  o.drop_plane = a.drop_plane;
+  o.largest_part = a.largest_part;
+  o.plane_distance = a.plane_distance;
+  o.gap = a.gap;
+  o.seed = a.seed;
+  const PointSet scene = load_shape(a.input);
+  CropResult r;
+  try {
+    r = crop(scene, o);
+  } catch (const InputError& e) {
+    return fail(a.input + ": " + e.what(), 1);
+  }
+  write_ply(a.output, r.points);
+  spdlog::info("{} of {} points of {} -> {}", r.points.size(), scene.size(), a.input, a.output);
+  if (o.box) spdlog::info("  {} inside the box", r.in_box);
+  if (o.drop_plane)
+    spdlog::info("  {} on the largest plane ({:.4f} {:.4f} {:.4f}) . x + {:.4f} = 0 dropped (median spacing {:.4g})",
+                 r.plane_points, r.plane_normal.x(), r.plane_normal.y(), r.plane_normal.z(), r.plane_offset, r.spacing);
+  if (o.largest_part) spdlog::info("  the largest of {} connected parts kept", r.parts);
+  return 0;
+}
+
 // plan, apply and split (DESIGN section 10): the run in tiles, for Dask, a Slurm job array or any batch system.
 struct TileArgs {
   std::string config, plan, plan_points, input, tile, output, output_dir;
@@ -475,6 +541,8 @@ int main(int argc, char** argv) {
   CLI::App* sample_cmd = add_sample_command(app, samp, common);
   CLI::App* eval_cmd = add_eval_command(app, ev, common);
   CLI::App* scan_cmd = add_scan_command(app, sc, common);
+  CropArgs cr;
+  CLI::App* crop_cmd = add_crop_command(app, cr, common);
   TileArgs tile;
   CLI::App* plan_cmd = add_plan_command(app, tile, common);
   CLI::App* apply_cmd = add_apply_command(app, tile, common);
@@ -511,6 +579,7 @@ int main(int argc, char** argv) {
       return with_threads(common.threads, [&] {
         return run_sample(samp.input, samp.output, samp.spacing, samp.count, samp.seed, samp.k);
       });
+    if (crop_cmd->parsed()) return with_threads(common.threads, [&] { return run_crop(cr); });
     if (plan_cmd->parsed()) return run_plan(tile, common.threads);
     if (apply_cmd->parsed()) return with_threads(common.threads, [&] { return run_apply(tile); });
     if (split_cmd->parsed()) return with_threads(common.threads, [&] { return run_split(tile, common.threads); });
