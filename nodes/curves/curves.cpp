@@ -8,16 +8,11 @@
 #include <sstream>
 
 #include "nodes/core/errors.h"
+#include "nodes/io/read_point_set.h"
 #include "nodes/io/write_ply.h"
 
 namespace scanfill {
 namespace {
-
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "nodes/core/errors.h"
+#include "nodes/io/read_point_set.h"
 
 namespace scanfill {
 namespace {
@@ -35,9 +36,7 @@ Similarity pose_of(std::istringstream& in, const std::filesystem::path& conf, in
 }  // namespace
 
 bool is_scan_alignment(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext == ".conf";
+  return lower_extension(path) == ".conf";
 }
 
 std::vector<ScanPose> read_scan_alignment(const std::filesystem::path& conf) {

@@ -102,13 +102,13 @@ bool parse_int(std::string_view t, std::int64_t& out) {
 
 }  // namespace io
 
-namespace {
-
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
 }
+
+namespace {
 
 // Drops non-finite points (and faces that use them), checks face indices, builds the PointSet.
 LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std::string& format,

@@ -58,4 +58,7 @@ std::optional<FileHeader> read_header(const std::filesystem::path& path);
 // True for the extensions read_point_set accepts.
 bool is_supported_extension(const std::filesystem::path& path);
 
+// The path's extension in lower case, with its dot (".ply"; "" for none).
+std::string lower_extension(const std::filesystem::path& path);
+
 }  // namespace scanfill
