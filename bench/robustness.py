@@ -8,7 +8,7 @@ scored against the styled target. Prints one JSON line per run and, at the end, 
 median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
-                                      [--set KEY=VALUE]... [--check-floors]
+                                      [--set KEY=VALUE]... [--check-floors] [--random-views N [--view-seed S]]
 
 With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
 each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
@@ -19,6 +19,7 @@ import argparse
 import json
 import math
 import os
+import random
 import statistics
 import subprocess
 import sys
@@ -205,6 +206,18 @@ def floor_shortfalls(rows):
     return out
 
 
+def random_views(n, seed):
+    """n eye directions drawn uniformly on the sphere (rejection from the cube), named by their coordinates."""
+    rng = random.Random(seed)
+    views = {}
+    while len(views) < n:
+        v = [rng.uniform(-1, 1) for _ in range(3)]
+        norm = math.sqrt(sum(x * x for x in v))
+        if 0.3 < norm <= 1:
+            views[f"r{len(views)}_" + "_".join(f"{x / norm:+.2f}" for x in v)] = tuple(x / norm for x in v)
+    return views
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build")
@@ -217,7 +230,13 @@ def main():
                     help="override a config key in every run (scanfill --set), repeatable")
     ap.add_argument("--check-floors", action="store_true", help="exit 1 when a shape is below its floors (FLOORS)")
     ap.add_argument("--run-binary", default="", help="another scanfill for the main run (e.g. an older build to compare)")
+    ap.add_argument("--random-views", type=int, default=0, metavar="N",
+                    help="N seeded random eye directions instead of the six named views (views no test chose)")
+    ap.add_argument("--view-seed", type=int, default=2026, help="seed of --random-views")
     args = ap.parse_args()
+    if args.random_views > 0:
+        VIEWS.clear()
+        VIEWS.update(random_views(args.random_views, args.view_seed))
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
     os.makedirs(args.out, exist_ok=True)
     cases = []  # (shape, name, cfg, out_dir, eval args)
