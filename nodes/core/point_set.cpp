@@ -1,6 +1,7 @@
 #include "nodes/core/point_set.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <string>
 
 #include "nodes/core/errors.h"
@@ -90,6 +91,14 @@ V take_entries(const V& v, const std::vector<std::int32_t>& indices) {
   return out;
 }
 }  // namespace
+
+std::vector<std::int32_t> strided_indices(Index n, Index most) {
+  const Index stride = std::max<Index>(1, (n + most - 1) / std::max<Index>(1, most));
+  std::vector<std::int32_t> out;
+  out.reserve(size_t((n + stride - 1) / stride));
+  for (Index i = 0; i < n; i += stride) out.push_back(std::int32_t(i));
+  return out;
+}
 
 PointSet subset(const PointSet& points, const std::vector<std::int32_t>& indices) {
   PointSet out(take_columns(points.positions(), indices));

@@ -111,6 +111,10 @@ BoundingBox bounding_box(const Eigen::Matrix3Xd& positions);
 // mesh's vertices is a cloud).
 PointSet subset(const PointSet& points, const std::vector<std::int32_t>& indices);
 
+// Every stride-th of the indices [0, n), the stride the smallest that keeps at most `most` of them (all when n <=
+// most).
+std::vector<std::int32_t> strided_indices(Index n, Index most);
+
 // Total area of a triangle mesh.
 double surface_area(const Eigen::Matrix3Xd& positions, const Matrix3Xi& faces);
 

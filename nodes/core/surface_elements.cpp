@@ -57,20 +57,12 @@ Eigen::Vector3d flattest_direction(const Eigen::Matrix3Xd& P, Index i, const std
   return eig.eigenvectors().col(0);
 }
 
-// Every stride-th of n indices, at most `most` of them.
-std::vector<std::int32_t> strided(Index n, Index most) {
-  const Index stride = std::max<Index>(1, (n + most - 1) / std::max<Index>(1, most));
-  std::vector<std::int32_t> out;
-  for (Index i = 0; i < n; i += stride) out.push_back(std::int32_t(i));
-  return out;
-}
-
 // The first point of each occupied cell of a cubic grid whose cell is sized for about `most` points (a surface
 // occupies cells in proportion to 1 / size^2; three passes settle the size). Unlike a stride, even on a range image's
 // rows: a stride of a row-major organised cloud keeps whole rows, whose PCA neighbourhoods are lines, and a stereo
 // scan's noise needs neighbourhoods wider than the sensor's own spacing.
 std::vector<std::int32_t> one_per_cell(const Eigen::Matrix3Xd& p, Index most) {
-  if (p.cols() <= most) return strided(p.cols(), most);
+  if (p.cols() <= most) return strided_indices(p.cols(), most);
   const BoundingBox box = bounding_box(p);
   double size = box.diagonal() / std::sqrt(double(std::max<Index>(1, most)));
   std::vector<std::int32_t> out;
@@ -92,7 +84,7 @@ std::vector<std::int32_t> one_per_cell(const Eigen::Matrix3Xd& p, Index most) {
 SurfaceElements surface_elements(const PointSet& model, Index most) {
   if (model.faces().cols() > 0) return face_elements(model);
   const std::vector<std::int32_t> picked = model.has_normals()
-                                               ? strided(model.size(), most)
+                                               ? strided_indices(model.size(), most)
                                                : one_per_cell(model.positions(), std::min(most, kEstimatedNormals));
   Eigen::Matrix3Xd P(3, Index(picked.size()));
   for (Index i = 0; i < P.cols(); ++i) P.col(i) = model.positions().col(picked[size_t(i)]);

@@ -20,13 +20,6 @@ using Indices = std::vector<std::int32_t>;
 // strided subset, the cost independent of a scene's size.
 constexpr Index kSubsetPoints = 20000;
 
-Indices every_other(Index n, Index at_most) {
-  const Index stride = std::max<Index>(1, (n + at_most - 1) / at_most);
-  Indices out;
-  for (Index i = 0; i < n; i += stride) out.push_back(std::int32_t(i));
-  return out;
-}
-
 Indices inside_box(const Eigen::Matrix3Xd& p, const BoundingBox& box) {
   Indices out;
   for (Index i = 0; i < p.cols(); ++i)
@@ -40,7 +33,7 @@ double median_spacing(const Eigen::Matrix3Xd& p, const KdTree& tree) {
   std::vector<double> d;
   std::int32_t index[2];
   double d2[2];
-  for (std::int32_t i : every_other(p.cols(), kSubsetPoints))
+  for (std::int32_t i : strided_indices(p.cols(), kSubsetPoints))
     if (tree.knn(p.col(i), 2, index, d2) == 2) d.push_back(std::sqrt(d2[1]));
   if (d.empty()) return 0;
   std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(d.size() / 2), d.end());
@@ -61,7 +54,7 @@ Index count_within(const Eigen::Matrix3Xd& p, const Indices& which, const Plane&
 
 // The plane through the most of `p` (within d): random triples scored on a strided subset.
 Plane ransac_plane(const Eigen::Matrix3Xd& p, double d, int trials, std::uint64_t seed) {
-  const Indices scored = every_other(p.cols(), kSubsetPoints);
+  const Indices scored = strided_indices(p.cols(), kSubsetPoints);
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<Index> pick(0, p.cols() - 1);
   Plane best;
