@@ -154,10 +154,12 @@ CropResult crop(const PointSet& points, const CropOptions& options) {
     r.plane_normal = plane.normal;
     r.plane_offset = plane.offset;
     r.points = keep(r.points, off, "off the largest plane");
-    tree = KdTree();
-    tree.build(r.points.positions());
   }
   if (options.largest_part) {
+    if (options.drop_plane) {  // the tree indexed the points before the plane was dropped
+      tree = KdTree();
+      tree.build(r.points.positions());
+    }
     const double gap = scaled_default(options.gap, 4, r.spacing, "gap");
     r.points = keep(r.points, largest_connected_part(r.points.positions(), tree, gap, r.parts), "in a part");
   }
