@@ -462,7 +462,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              transforms,
                              coverage ? &coverage->cover.covered : nullptr,
                              &parts,
-                             mirror_axis ? &*mirror_axis : nullptr};
+                             mirror_axis ? &*mirror_axis : nullptr,
+                             !state.config.correspond.rigid};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];

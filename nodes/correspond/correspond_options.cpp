@@ -9,7 +9,9 @@ OptionTable option_table(CorrespondOptions& co) {
       "dense exemplar <-> source map (paper section 4): rigid ICP, then embedded deformation (block-sparse "
       "Levenberg-Marquardt) alternating "
       "with a min-cost-flow assignment (LEMON)",
-      {{"rigid", &co.rigid, "rigid pre-alignment by ICP (inputs must be roughly aligned)", any()},
+      {{"rigid", &co.rigid,
+        "rigid pre-alignment by ICP (inputs must be roughly aligned); false keeps the scan as given, on the template",
+        any()},
        {"rigid_iterations", &co.rigid_iterations, "ICP steps; [1, 500]",
         range(&co.rigid_iterations, 1, 500, false, "an integer in [1, 500]")},
        {"rigid_trim", &co.rigid_trim, "ICP ignores pairs farther than this times the median distance; >= 1",
