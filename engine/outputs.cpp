@@ -193,6 +193,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
   report["correspondence"] = {
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},
       {"rigid_rms", m.rigid_rms},
+      {"kept_input_pose", m.kept_input_pose},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};

@@ -279,9 +279,10 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
     node_logger("correspond")
         ->info(
-            "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}; {} of {} exemplar samples matched, RMS {:.4g} "
+            "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}; {} of {} exemplar samples matched, RMS {:.4g} "
             "after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
+            c->map.kept_input_pose ? " (ICP's, not taken: more of the scan lies on the template in its own pose)" : "",
             c->map.matched, E.size(), c->map.deformed_rms);
     for (size_t i = 0; i < c->map.deformation_solves.size(); ++i) {
       const SolverSummary& s = c->map.deformation_solves[i];
@@ -463,7 +464,7 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              coverage ? &coverage->cover.covered : nullptr,
                              &parts,
                              mirror_axis ? &*mirror_axis : nullptr,
-                             !state.config.correspond.rigid};
+                             !state.config.correspond.rigid || map.kept_input_pose};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];

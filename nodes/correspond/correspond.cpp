@@ -95,6 +95,60 @@ Similarity rigid_icp(const PointSet& exemplar, const PointSet& source, const KdT
               .converged_change = 1e-6});
 }
 
+// Moves below this many spacings and turns below this angle that put less of the scan on the template are the
+// relief's pull, not a registration: relief pulls a scan along the normal of the ground it stands on, hardly turning it
+// (the crate's front: 1.1 spacings, 0.05 degrees).
+constexpr double kReliefPull = 2.0;
+constexpr double kReliefTurn = 0.5 * M_PI / 180;
+
+// The farthest any of the points is moved by q.
+double largest_displacement(const Eigen::Matrix3Xd& p, const Similarity& q) {
+  double most = 0;
+  for (Index i = 0; i < p.cols(); ++i) most = std::max(most, (q.apply(p.col(i)) - p.col(i)).norm());
+  return most;
+}
+
+// The share of the exemplar's samples that q puts on the source: within half a spacing of the tangent plane of their
+// nearest source sample (of the sample itself without normals), and within two spacings of it.
+double share_on_source(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& q,
+                       double spacing) {
+  Eigen::Matrix3Xd moved(3, exemplar.size());
+  for (Index i = 0; i < exemplar.size(); ++i) moved.col(i) = q.apply(exemplar.positions().col(i));
+  std::vector<std::int32_t> idx;
+  std::vector<double> d2;
+  nearest_each(tree, moved, idx, d2);
+  Index on = 0;
+  for (Index i = 0; i < moved.cols(); ++i) {
+    if (d2[size_t(i)] > 4 * spacing * spacing) continue;
+    const Eigen::Vector3d d = moved.col(i) - source.positions().col(idx[size_t(i)]);
+    const double off = source.has_normals() ? std::abs(d.dot(source.normals().col(idx[size_t(i)]))) : d.norm();
+    on += off <= 0.5 * spacing;
+  }
+  return double(on) / double(std::max<Index>(1, moved.cols()));
+}
+
+// ICP's pose, unless it moves the scan by less than kReliefPull spacings, turns it by less than kReliefTurn, and puts
+// less of it on the template than its own pose does. A scan whose relief covers much of what it saw has no pose that
+// puts all of it on a plain template: ICP settles between the relief and the ground it stands on, off both, and every
+// turned image of the scan then lands off the template by twice that (the crate seen square on its front: one face,
+// half of it 2 cm of raised frame and diamond, registered 1.1 cm (1.1 spacings) off, its opposite face turned onto the
+// template 2.1 cm inside it; 47% of the scan on the template as given, 15% as registered). A larger motion is a
+// registration: the same scan moved 1.5 cm and 2 degrees off has 24% on the template, ICP's pose 16% (between
+// layers; 2.0 spacings, 2.1 degrees), and ICP's is right. So a scan moved less than the relief's pull keeps its own
+// pose, as a scanner's registered output or a virtual scan needs; a gear seen edge-on, tilted 1.9 degrees by its
+// teeth, is still registered by ICP (`correspond.rigid: false` keeps a registered scan's pose whole).
+Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
+                                      double spacing, const CorrespondOptions& o, CorrespondResult& r) {
+  const Similarity icp_pose = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  if (rotation_angle(icp_pose.rotation) > kReliefTurn ||
+      largest_displacement(exemplar.positions(), icp_pose) > kReliefPull * spacing ||
+      share_on_source(exemplar, source, tree, Similarity{}, spacing) <=
+          share_on_source(exemplar, source, tree, icp_pose, spacing))
+    return icp_pose;
+  r.kept_input_pose = true;
+  return Similarity{};
+}
+
 // Min-cost flow assignment of exemplar samples to source samples (partial, many-to-one).
 Index assign(bool exemplar_normals, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
              const PointSet& source, const KdTree& tree, double spacing, const CorrespondOptions& o,
@@ -343,7 +397,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
                        "% needed); inputs must be roughly aligned and at the same scale");
   }
   // Rigid registration, then the overlap check.
-  if (o.rigid) r.rigid = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  if (o.rigid) r.rigid = registration_or_input_pose(exemplar, source, tree, spacing, o, r);
   report(progress, 0.2);
   r.registered.resize(3, exemplar.size());
   Eigen::Matrix3Xd normals(3, exemplar.size());

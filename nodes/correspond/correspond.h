@@ -74,6 +74,7 @@ struct CorrespondResult {
                                               // deformed position within 2 escape_distance (-1 beyond: an outlier)
   Index matched = 0;                          // exemplar samples with a source sample
   double rigid_rms = 0;                       // RMS distance of the trimmed ICP pairs, model units
+  bool kept_input_pose = false;               // rigid is the identity: more of the scan lay on the source as given
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).
   std::vector<SolverSummary> deformation_solves;
