@@ -1,7 +1,8 @@
 // correspond node: the dense source <-> exemplar map M of the paper's section 4 (DESIGN section 4).
 //
 // The exemplar samples are registered to the source samples, rigidly first (trimmed point-to-plane ICP from the
-// given, roughly aligned pose), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
+// given, roughly aligned pose; the given pose itself where ICP only slides the scan between its relief and the
+// ground: kept_input_pose), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
 // deformation nodes, each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations
 // assembled in parallel and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration
 // alternates with an assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight
@@ -42,7 +43,7 @@ struct LandmarkFiles {
 };
 
 struct CorrespondOptions {
-  bool rigid = true;                  // rigid pre-alignment by ICP (inputs are assumed roughly aligned)
+  bool rigid = true;                  // rigid pre-alignment by ICP (roughly aligned inputs); false: the given pose
   int rigid_iterations = 40;          // ICP steps; [1, 500]
   double rigid_trim = 3.0;            // ICP ignores pairs farther than this times the median pair distance; >= 1
   double rigid_fine_trim = 3.0;       // the same in the point-to-plane steps (1: only the closer half); > 0
@@ -73,7 +74,7 @@ struct CorrespondResult {
   std::vector<std::int32_t> exemplar_source;  // per exemplar sample: its match, else the source sample nearest its
                                               // deformed position within 2 escape_distance (-1 beyond: an outlier)
   Index matched = 0;                          // exemplar samples with a source sample
-  double rigid_rms = 0;                       // RMS distance of the trimmed ICP pairs, model units
+  double rigid_rms = 0;                       // RMS distance of ICP's trimmed pairs (even where its pose is not kept)
   bool kept_input_pose = false;               // rigid is the identity: more of the scan lay on the source as given
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).

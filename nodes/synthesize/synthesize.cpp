@@ -339,8 +339,8 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
 
 // How far a free fit may move a region the template pins before its landing on the template is checked, in alpha.
 constexpr double kFarSlide = 5.0;
-// The same where the scan is as given (`pinned`): no registration moved it, so it stands on the template.
-constexpr double kPinnedSlide = 1.0;
+// The same where the scan is as given (`as_given`): no registration moved it, so it stands on the template.
+constexpr double kAsGivenSlide = 1.0;
 
 // The least registration offset applied, in alpha (applied_offset), and the least that has the refinement score its
 // candidates by truncated least squares (refine). Between the two, the offset is applied but the candidates are
@@ -378,8 +378,8 @@ double truncated_misfit(double sum, Index pairs, Index most, double limit2) {
 // top (the table seen from (-0.2, -0.6, 0.9)) it slid two labels' legs 19 alpha off the legs for a 30% lower mean.
 // Kept: the crate's fits of 2-3 alpha across its relief (landing 5-26%: the relief's depth), a fit of 9 alpha the
 // table seen from above needs (landing 56%), and Vase-Lion's turns, whose body of revolution fits it loosely. Those
-// fits correct a registration the relief pulled off the template. Where no registration moved the scan (`pinned`:
-// kept as given), there is nothing to correct, and a fit that moves such a region more than an alpha and lands a
+// fits correct a registration the relief pulled off the template. Where no registration moved the scan
+// (`as_given`), there is nothing to correct, and a fit that moves such a region more than an alpha and lands a
 // tenth less of it is not taken: the crate in its own pose seen from below, whose flip of the floor onto the lid also
 // turns the seen walls' relief upside down onto itself, slid 2 alpha up for a lower misfit of the walls, the lid off
 // the box (landing 100% -> 56%, F 0.742; 0.981 kept).
@@ -389,7 +389,7 @@ double truncated_misfit(double sum, Index pairs, Index most, double limit2) {
 // scanner did not see drop out of the overlap, has the lower mean (the gear from the front and from the side). The
 // first wins a tie.
 Similarity refinement(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
-                      const SynthesisOptions& o, bool truncated, bool pinned,
+                      const SynthesisOptions& o, bool truncated, bool as_given,
                       const std::function<double(const Similarity&)>& landed) {
   const Similarity phase = phase_correction(placed, q, slip, spacing, o);
   const std::array<Similarity, 3> fits{phase, placed.fit_along(q, phase, slip, false, o.refine_iterations),
@@ -400,11 +400,13 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
     misfit[i] = placed.misfit(fits[i].compose(q));
     most = std::max(most, misfit[i].second);
   }
-  const double move = region_move(fits[2].compose(phase.inverse()), slip);
-  const double landing = landed(fits[2].compose(q)), phase_landing = landed(phase.compose(q));
-  const bool leaves_template = !truncated && slip.motions.empty() &&
-                               (pinned ? move > kPinnedSlide * spacing && 10 * landing < 9 * phase_landing
-                                       : move > kFarSlide * spacing && 2 * landing < phase_landing);
+  const bool leaves_template = [&] {
+    if (truncated || !slip.motions.empty() ||
+        region_move(fits[2].compose(phase.inverse()), slip) <= (as_given ? kAsGivenSlide : kFarSlide) * spacing)
+      return false;
+    const double landing = landed(fits[2].compose(q)), phase_landing = landed(phase.compose(q));
+    return as_given ? 10 * landing < 9 * phase_landing : 2 * landing < phase_landing;
+  }();
   const auto score = [&](size_t i) {
     const auto [sum, overlap] = misfit[i];
     if (truncated) return truncated_misfit(sum, overlap, most, placed.limit2());
