@@ -17,18 +17,27 @@ namespace {
 char g_staging[4096] = {0};
 std::atomic<bool> g_staging_set{false};
 
+// Removes the folder's files and the folder with async-signal-safe calls only. Not opendir/readdir: they allocate, and
+// a signal that lands inside malloc (the sample stage's workers allocate all the time) left the handler waiting for the
+// allocator's lock forever. Entries removed while a directory is read may be skipped, so it reads again until a pass
+// removes nothing.
 void remove_folder_now(const char* folder) {
-  // Only calls a signal handler may make (opendir/readdir allocate in glibc, but the process ends right after).
-  if (DIR* d = opendir(folder)) {
-    char path[4096 + 256];
-    while (const dirent* e = readdir(d)) {
-      if (std::strcmp(e->d_name, ".") == 0 || std::strcmp(e->d_name, "..") == 0) continue;
-      std::snprintf(path, sizeof(path), "%s/%s", folder, e->d_name);
-      unlink(path);
+  const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    alignas(8) char buf[4096];
+    for (bool removed = true; removed && ::lseek(fd, 0, SEEK_SET) == 0;) {
+      removed = false;
+      for (ssize_t n; (n = ::getdents64(fd, buf, sizeof(buf))) > 0;)
+        for (ssize_t at = 0; at < n;) {
+          const auto* e = reinterpret_cast<const struct dirent64*>(buf + at);
+          at += e->d_reclen;
+          if (std::strcmp(e->d_name, ".") != 0 && std::strcmp(e->d_name, "..") != 0)
+            removed = ::unlinkat(fd, e->d_name, 0) == 0 || removed;
+        }
     }
-    closedir(d);
+    ::close(fd);
   }
-  rmdir(folder);
+  ::rmdir(folder);
 }
 
 extern "C" void on_signal(int sig) {
