@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <random>
 #include <vector>
 
 #include "nodes/core/kdtree.h"
@@ -50,6 +51,31 @@ TEST(AxialRepeats, FindsAVasesBeadsAndFlutesAsTwoBands) {
   EXPECT_EQ(r->order[1], 12);
   EXPECT_GT(r->cut, 0.085);
   EXPECT_LT(r->cut, 0.16);
+}
+
+// The same half vase scanned with noise of half an alpha along the normal (seeded), about half its flutes' depth: every
+// turn misfits by the noise, the flutes' repeats included, and the two bands are still found above it.
+TEST(AxialRepeats, FindsAVasesBeadsAndFlutesUnderScannerNoise) {
+  Exemplar e = half_of(make_vase(), 32000);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.5 * e.alpha);
+  for (Index i = 0; i < e.p.cols(); ++i) e.p.col(i) += noise(rng) * e.n.col(i);
+  const auto r = axial_repeats(e.p, e.n, about_z, e.alpha, 3 * e.alpha);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->order[0], 16);
+  EXPECT_EQ(r->order[1], 12);
+  EXPECT_GT(r->cut, 0.085);
+  EXPECT_LT(r->cut, 0.16);
+}
+
+// About an axis 1.8 cm off a fluted column's (a region's turn axis on the sweep's column seen from the side), the
+// turns' misfit dips near 21 degrees and grows past it, no later turn fitting: no repeat (not 18 flutes).
+TEST(AxialRepeats, FindsNoRepeatAboutAnAxisOffTheColumns) {
+  const Exemplar e = half_of(make_column(), 32000);
+  ASSERT_TRUE(axial_repeats(e.p, e.n, about_z, e.alpha, 3 * e.alpha).has_value());
+  const TurningPart off{Eigen::Vector3d(0.0074, 0.0167, 0), Eigen::Vector3d::UnitZ()};
+  const auto r = axial_repeats(e.p, e.n, off, e.alpha, 3 * e.alpha);
+  EXPECT_TRUE(!r || r->order[0] == 16) << r->order[0];
 }
 
 // About its axis pointing down, the same vase has the beads above the cut.
@@ -211,6 +237,24 @@ TEST(MirrorPlane, FindsThePlaneWhenTheAxisGivenIsTilted) {
   EXPECT_GT(std::abs(m->normal.x()), std::cos(0.5 * M_PI / 180));
   EXPECT_LT(std::abs(m->normal.dot(m->point)), 0.5 * e.alpha);
   EXPECT_LT(m->misfit, 0.25 * e.alpha);
+}
+
+// Scanned with noise of 0.4 alpha along the normal, the head's mirrored samples misfit by the noise of two samples (a
+// median near 0.4 alpha, over the 0.25 alpha a noiseless plane must fit to); measured above the noise, the plane is
+// still found, and a noisy blob still has none.
+TEST(MirrorPlane, FindsThePlaneUnderScannerNoise) {
+  const auto noisy = [](Exemplar e) {
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.4 * e.alpha);
+    for (Index i = 0; i < e.p.cols(); ++i) e.p.col(i) += noise(rng) * e.n.col(i);
+    return e;
+  };
+  const Exemplar e = noisy(half_of(one_headed_body(), 30000));
+  const auto m = mirror_of(e, {Eigen::Vector3d(0.002, 0, 0), Eigen::Vector3d::UnitZ()});
+  ASSERT_TRUE(m.has_value());
+  EXPECT_GT(std::abs(m->normal.x()), std::cos(1.0 * M_PI / 180));
+  EXPECT_LT(std::abs(m->point.x()), 0.5 * e.alpha);
+  EXPECT_FALSE(mirror_of(noisy(half_of(make_blob(), 30000)), about_z).has_value());
 }
 
 // A blob has no mirror plane through any axis.
