@@ -9,7 +9,10 @@ median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
                                       [--set KEY=VALUE]... [--check-floors] [--random-views N [--view-seed S]]
+                                      [--noise SHARE]
 
+--noise gives the virtual scans range noise (Gaussian along each ray, seeded) of SHARE times the model's diagonal, as a
+real scanner's: 0.003 is about a third of the F-score's threshold.
 With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
 each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
 
@@ -116,15 +119,17 @@ def yaml_list(v):
     return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
 
 
-def completion_case(exe, work, shape, model, template, view, preset, up="z"):
+def completion_case(exe, work, shape, model, template, view, preset, up="z", noise=0.0):
     name = f"{shape} | {template.split(':')[-1]} | {view}"
     tag = "".join(c if c.isalnum() else "_" for c in name)
     d = os.path.join(work, tag)
     os.makedirs(d, exist_ok=True)
-    centre, eye = eye_for(bbox_of(exe, model, work), view, up)
+    bbox = bbox_of(exe, model, work)
+    centre, eye = eye_for(bbox, view, up)
     scan = os.path.join(d, "scan.ply")
+    sensor = ["--noise", f"{noise * math.dist(*bbox):.9g}", "--seed", "1"] if noise > 0 else []
     run([exe, "scan", "--input", model, "--output", scan, "--eye", ",".join(map(str, eye)), "--target",
-         ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"])
+         ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"] + sensor)
     if template == "revolution:SCAN":
         template = "revolution:" + scan
     cfg = os.path.join(d, "config.yaml")
@@ -233,6 +238,8 @@ def main():
     ap.add_argument("--random-views", type=int, default=0, metavar="N",
                     help="N seeded random eye directions instead of the six named views (views no test chose)")
     ap.add_argument("--view-seed", type=int, default=2026, help="seed of --random-views")
+    ap.add_argument("--noise", type=float, default=0.0, metavar="SHARE",
+                    help="range noise of the virtual scans (sigma along the ray) as a share of the model's diagonal")
     args = ap.parse_args()
     if args.random_views > 0:
         VIEWS.clear()
@@ -275,7 +282,7 @@ def main():
             if case[0] == "completion":
                 _, shape, model, template, view, up = case
                 name, cfg, out_dir, eval_args = completion_case(exe, args.out, shape, model, template, view,
-                                                                args.preset, up)
+                                                                args.preset, up, args.noise)
             else:
                 _, shape, source, target, exemplar, styled = case
                 name = shape
