@@ -333,9 +333,11 @@ SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const Feat
     s->target_symmetry = find_symmetries(target->features.points, s->spacing, options);
     s->target_symmetry.parts = find_part_symmetries(target->features.points, s->spacing, s->target_symmetry, options,
                                                     &target->sampled->loaded->load.points);
+    s->target_symmetry.faces = find_planar_faces(target->features.points, s->spacing, options);
     node_logger("symmetry")
-        ->info("source: {}; target: {} ({} rotations; {} parts about their own axis)", describe(s->source_symmetry),
-               describe(s->target_symmetry), s->target_symmetry.rotations.size(), s->target_symmetry.parts.size());
+        ->info("source: {}; target: {} ({} rotations; {} parts about their own axis; {} flat faces)",
+               describe(s->source_symmetry), describe(s->target_symmetry), s->target_symmetry.rotations.size(),
+               s->target_symmetry.parts.size(), s->target_symmetry.faces.size());
     return SymmetriesPtr(std::move(s));
   });
 }
@@ -382,8 +384,10 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     if (const auto& axis = v.symmetries->source_symmetry.continuous)
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
+    const SymmetryResult& symmetry = v.symmetries->target_symmetry;
+    const Eigen::Vector3d up = config.label.up.value_or(upright_axis(symmetry).value_or(Eigen::Vector3d::UnitZ()));
     const std::vector<Mode> composed =
-        composed_candidates(voted.transforms, v.symmetries->target_symmetry, T, config.symmetry);
+        composed_candidates(voted.transforms, symmetry, T, v.spacing(), up, config.symmetry);
     s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
+#include <optional>
 
 #include "nodes/core/disjoint_sets.h"
 #include "nodes/core/errors.h"
@@ -105,9 +107,11 @@ double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
 }
 
 // Connected components of the kNN graph (8 neighbours within 3 alpha) over edges whose normals agree within
-// `normal_angle_deg`, each ascending, ordered by their smallest sample.
-std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, double spacing,
-                                                         double normal_angle_deg) {
+// `normal_angle_deg`, each ascending, ordered by their smallest sample. With `interior`, a sample whose normal
+// disagrees with a neighbour's joins nothing (it stays a component of its own): the normals blended across a sharp
+// edge then cannot chain two faces together.
+std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, double spacing, double normal_angle_deg,
+                                                         bool interior = false) {
   const Index n = shape.size();
   constexpr int k = 8;
   KdTree tree;
@@ -115,11 +119,19 @@ std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, 
   std::vector<double> d2;
   const std::vector<std::int32_t> graph = knn_graph(tree, shape.positions(), k, &d2);
   const double cos_limit = std::cos(normal_angle_deg * M_PI / 180), limit2 = std::pow(3 * spacing, 2);
+  const auto agree = [&](Index i, int e) {
+    const std::int32_t j = graph[size_t(i * k + e)];
+    return j < 0 || d2[size_t(i * k + e)] > limit2 || shape.normals().col(i).dot(shape.normals().col(j)) >= cos_limit;
+  };
+  std::vector<std::uint8_t> joins(size_t(n), 1);
+  if (interior)
+    for (Index i = 0; i < n; ++i)
+      for (int e = 0; e < k; ++e) joins[size_t(i)] = joins[size_t(i)] && agree(i, e);
   DisjointSets sets(n);
   for (Index i = 0; i < n; ++i)
     for (int e = 0; e < k; ++e) {
       const std::int32_t j = graph[size_t(i * k + e)];
-      if (j < 0 || d2[size_t(i * k + e)] > limit2) continue;
+      if (j < 0 || d2[size_t(i * k + e)] > limit2 || !joins[size_t(i)] || !joins[size_t(j)]) continue;
       if (shape.normals().col(i).dot(shape.normals().col(j)) < cos_limit) continue;
       sets.join(std::int32_t(i), j);
     }
@@ -137,9 +149,9 @@ std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, 
 }
 
 // Q o R as a mode: it explains t when R t lies on Q's `support`, so its voters are the samples nearest R^-1 u for u in
-// the support.
+// the support (within `reach` of it, when R carries only part of T onto T).
 Mode composed_mode(const Similarity& q, const Similarity& r, const std::vector<std::int32_t>& support,
-                   const PointSet& target, const KdTree& tree) {
+                   const PointSet& target, const KdTree& tree, double reach = std::numeric_limits<double>::infinity()) {
   const Similarity r_inv = r.inverse();
   Mode m;
   m.transform = q.compose(r);
@@ -147,9 +159,11 @@ Mode composed_mode(const Similarity& q, const Similarity& r, const std::vector<s
   tbb::parallel_for(size_t(0), support.size(), [&](size_t i) {
     double d2;
     tree.knn(r_inv.apply(target.positions().col(support[i])), 1, &m.voters[i], &d2);
+    if (d2 > reach * reach) m.voters[i] = -1;
   });
   std::sort(m.voters.begin(), m.voters.end());
   m.voters.erase(std::unique(m.voters.begin(), m.voters.end()), m.voters.end());
+  if (!m.voters.empty() && m.voters.front() < 0) m.voters.erase(m.voters.begin());
   m.votes = Index(m.voters.size());
   return m;
 }
@@ -167,6 +181,38 @@ void append_part_turns(const Similarity& q, const std::vector<std::int32_t>& sup
     for (int k = 1; k < turns; ++k)
       out.push_back(composed_mode(q, rotation_about(part.axis.centre, part.axis.direction, 2 * M_PI * k / turns),
                                   on_part, target, tree));
+  }
+}
+
+// The turn about `up` by a multiple of 90 degrees that carries face `a` onto face `b`, centre onto centre; none when
+// either face is not upright or their normals are not a quarter or half turn apart (within 3 degrees).
+std::optional<Similarity> face_turn(const PlanarFace& a, const PlanarFace& b, const Eigen::Vector3d& up) {
+  const double upright = std::sin(5 * M_PI / 180);
+  if (std::abs(a.normal.dot(up)) > upright || std::abs(b.normal.dot(up)) > upright) return std::nullopt;
+  const double angle = std::atan2(up.dot(a.normal.cross(b.normal)), a.normal.dot(b.normal));
+  const double quarters = std::round(angle / (M_PI / 2));
+  if (quarters == 0 || std::abs(angle - quarters * M_PI / 2) > 3 * M_PI / 180) return std::nullopt;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(quarters * M_PI / 2, up).toRotationMatrix();
+  return Similarity{R, b.centre - R * a.centre, 1.0};
+}
+
+// Q composed with the turns about `up` that carry a face B of T onto a face A that Q's support reaches (face_turn),
+// where no symmetry in `group` is that turn; only the support on A votes.
+void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& support,
+                       const std::vector<PlanarFace>& faces, const std::vector<Similarity>& group,
+                       const Eigen::Vector3d& up, double spacing, double reach, const PointSet& target,
+                       const KdTree& tree, std::vector<Mode>& out) {
+  for (const PlanarFace& a : faces) {
+    std::vector<std::int32_t> on_a;
+    std::set_intersection(support.begin(), support.end(), a.samples.begin(), a.samples.end(), std::back_inserter(on_a));
+    if (on_a.empty()) continue;
+    for (const PlanarFace& b : faces) {
+      const auto turn = face_turn(b, a, up);  // T -> T: B onto A
+      if (!turn) continue;
+      const bool symmetry = std::any_of(group.begin(), group.end(),
+                                        [&](const Similarity& g) { return same_rotation(g, *turn, 3 * spacing); });
+      if (!symmetry) out.push_back(composed_mode(q, *turn, on_a, target, tree, reach));
+    }
   }
 }
 
@@ -244,6 +290,22 @@ std::vector<PartSymmetry> find_part_symmetries(const PointSet& shape, double spa
     same->samples = std::move(both);
   }
   return parts;
+}
+
+std::vector<PlanarFace> find_planar_faces(const PointSet& shape, double spacing, const SymmetryOptions& o) {
+  check_options(o);
+  std::vector<PlanarFace> faces;
+  if (!o.enabled || !o.face_turns || o.planar || shape.size() < 10) return faces;
+  if (!shape.has_normals()) throw InvariantError("symmetry needs normals");
+  const double flat = std::cos(5 * M_PI / 180);
+  for (auto& samples : smooth_components(shape, spacing, 5.0, true)) {
+    if (Index(samples.size()) < o.part_min_samples) continue;
+    const PointSet face = subset(shape, samples);
+    const Eigen::Vector3d normal = face.normals().rowwise().sum().normalized();
+    if ((normal.transpose() * face.normals()).minCoeff() < flat) continue;
+    faces.push_back({normal, face.positions().rowwise().mean(), std::move(samples)});
+  }
+  return faces;
 }
 
 SymmetryResult find_symmetries(const PointSet& shape, double spacing, const SymmetryOptions& o) {
@@ -327,10 +389,12 @@ void snap_to_family_representatives(std::vector<SupportedTransform>& transforms,
 }
 
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
-                                      const SymmetryResult& target_symmetry, const PointSet& target,
-                                      const SymmetryOptions& o) {
+                                      const SymmetryResult& target_symmetry, const PointSet& target, double spacing,
+                                      const Eigen::Vector3d& up, const SymmetryOptions& o) {
   std::vector<Mode> out;
-  if (!o.enabled || (target_symmetry.rotations.empty() && target_symmetry.parts.empty()) || found.empty()) return out;
+  const bool faces = o.face_turns && target_symmetry.faces.size() > 1;
+  if (!o.enabled || (target_symmetry.rotations.empty() && target_symmetry.parts.empty() && !faces) || found.empty())
+    return out;
   KdTree tree;
   tree.build(target.positions());
   const size_t bases = std::min<size_t>(found.size(), size_t(std::max(0, o.max_base_transforms)));
@@ -348,6 +412,9 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
     with.insert(with.end(), target_symmetry.rotations.begin(), target_symmetry.rotations.end());
     for (const Similarity& r : with) out.push_back(composed_mode(base, r, q.support, target, tree));
     if (o.parts) append_part_turns(base, q.support, target_symmetry.parts, o.part_turns, target, tree, out);
+    if (faces)
+      append_face_turns(base, q.support, target_symmetry.faces, target_symmetry.rotations, up, spacing,
+                        o.distance * spacing, target, tree, out);
   }
   return out;
 }

@@ -43,8 +43,10 @@ struct SymmetryOptions {
   double part_normal_angle_deg = 45;  // neighbouring samples are in one part when their normals agree this well
   Index part_min_samples = 100;       // smaller parts are not searched; >= 10
   int part_turns = 4;                 // a part's axis offers the turns by multiples of 360 / this degrees; [2, 360]
-  bool planar = false;  // only the z axis (mode curves; set by the engine, no key): a half turn about an axis of the
-                        // plane maps a drawing to its mirror image, which is no motion of the plane
+  bool face_turns = true;  // also the quarter turns about the up axis between flat faces of T that its symmetries do
+                           // not relate (the long and the short sides of a box that is not square)
+  bool planar = false;     // only the z axis (mode curves; set by the engine, no key): a half turn about an axis of the
+                           // plane maps a drawing to its mirror image, which is no motion of the plane
 };
 
 struct SymmetryAxis {
@@ -59,11 +61,19 @@ struct PartSymmetry {
   std::vector<std::int32_t> samples;  // the part's samples, ascending
 };
 
+// A flat face of the shape (a side of a box): its samples, their mean normal and their centroid.
+struct PlanarFace {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  std::vector<std::int32_t> samples;  // ascending
+};
+
 struct SymmetryResult {
   std::vector<SymmetryAxis> axes;          // axes with a symmetry, continuous ones first
   std::vector<Similarity> rotations;       // the symmetry group (identity excluded): shape -> shape
   std::optional<SymmetryAxis> continuous;  // the first continuous axis, if any
   std::vector<PartSymmetry> parts;         // parts symmetric about their own axis (find_part_symmetries)
+  std::vector<PlanarFace> faces;           // flat faces (find_planar_faces)
 };
 
 // `shape` needs normals; `spacing` is alpha. Deterministic.
@@ -78,6 +88,12 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
 // cylinder's side and caps) are one. Deterministic.
 std::vector<PartSymmetry> find_part_symmetries(const PointSet& shape, double spacing, const SymmetryResult& global,
                                                const SymmetryOptions& options, const PointSet* mesh = nullptr);
+
+// The flat faces of `shape`: the connected components of the kNN graph (8 neighbours within 3 alpha) over samples
+// whose normals agree within 5 degrees with every neighbour's (a box's edges, where sampled normals blend, split them)
+// that hold at least `part_min_samples` samples, every normal within 5 degrees of their mean. Empty unless
+// `face_turns`. Deterministic.
+std::vector<PlanarFace> find_planar_faces(const PointSet& shape, double spacing, const SymmetryOptions& options);
 
 // The direction a symmetric object stands along: its continuous axis, else its discrete axis of highest order when
 // no other axis has that order, else nothing (the symmetry does not tell). A vase or a cylinder drawn y-up gives y; a
@@ -107,9 +123,13 @@ void snap_to_family_representatives(std::vector<SupportedTransform>& transforms,
 // with the axis steps then include the axis rotations. Returned as modes whose voters are those samples, for
 // grow_supports. With `parts`, Q is also composed with each part's turns about the part's own axis (by multiples of
 // 360 / part_turns degrees), where Q's support reaches the part: the voters are then the part's samples that the turn
-// carries onto that support, so that the part's unseen side can take its seen side's detail.
+// carries onto that support, so that the part's unseen side can take its seen side's detail. With `face_turns`, Q is
+// also composed with the turn about `up` by a multiple of 90 degrees that carries a flat face B of T onto a face A that
+// Q's support reaches, centre onto centre, where no symmetry of T does so (a box that is not square has no quarter
+// turn, yet its short side takes its long side's relief, centred): the voters are B's samples that the turn carries
+// within `distance` alpha of the support on A.
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
-                                      const SymmetryResult& target_symmetry, const PointSet& target,
-                                      const SymmetryOptions& options);
+                                      const SymmetryResult& target_symmetry, const PointSet& target, double spacing,
+                                      const Eigen::Vector3d& up, const SymmetryOptions& options);
 
 }  // namespace scanfill

@@ -34,7 +34,11 @@ OptionTable option_table(SymmetryOptions& sm) {
        {"part_min_samples", &sm.part_min_samples, "smaller parts are not searched; >= 10",
         range<Index>(&sm.part_min_samples, 10, Index(1) << 40, false, "an integer >= 10")},
        {"part_turns", &sm.part_turns, "a part's axis offers turns by multiples of 360 / this degrees; [2, 360]",
-        range(&sm.part_turns, 2, 360, false, "an integer in [2, 360]")}}};
+        range(&sm.part_turns, 2, 360, false, "an integer in [2, 360]")},
+       {"face_turns", &sm.face_turns,
+        "also the quarter turns about the up axis between flat faces of the target that its symmetries do not relate "
+        "(a box that is not square)",
+        any()}}};
 }
 
 }  // namespace scanfill
