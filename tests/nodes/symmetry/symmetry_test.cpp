@@ -141,7 +141,7 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   for (Index t = 0; t < box.size(); ++t)
     if (box.normals().col(t).y() < -0.9) id.support.push_back(std::int32_t(t));
   found.push_back(id);
-  const std::vector<Mode> modes = composed_candidates(found, r, box, {});
+  const std::vector<Mode> modes = composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), {});
   ASSERT_EQ(modes.size(), r.rotations.size());
   int faces_reached = 0;
   for (const auto& m : modes) {
@@ -153,6 +153,59 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
     faces_reached += n.y() > 0.99 || std::abs(n.x()) > 0.99;
   }
   EXPECT_GE(faces_reached, 3);  // +y, -x and +x: the sides a corner view cannot see
+}
+
+// A box that is not square (0.8 by 0.5 in plan) has no quarter turn, yet its short sides are to take its long side's
+// relief: the identity, seen on the long -y face, composed with the quarter turns that carry each short face onto it,
+// centre onto centre.
+TEST(Symmetry, ComposedCandidatesTurnALongFaceOntoTheShortOnesOfABoxThatIsNotSquare) {
+  double alpha = 0;
+  const PointSet box = samples_of(make_lowpoly_box(Eigen::Vector3d(0.8, 0.5, 0.6), Eigen::Vector3d(0, 0, 0.3)), alpha);
+  SymmetryResult r = find_symmetries(box, alpha, {});
+  r.faces = find_planar_faces(box, alpha, {});
+  ASSERT_EQ(r.faces.size(), 6u);
+  const auto identity_on_front = [](const PointSet& shape) {
+    std::vector<SupportedTransform> found(1);
+    for (Index t = 0; t < shape.size(); ++t)
+      if (shape.normals().col(t).y() < -0.9) found[0].support.push_back(std::int32_t(t));
+    return found;
+  };
+  const std::vector<SupportedTransform> found = identity_on_front(box);
+  const auto quarter_turns = [&](const std::vector<Mode>& modes) {
+    std::vector<Mode> out;
+    for (const auto& m : modes)
+      if (std::abs(m.transform.rotation(2, 2) - 1) < 1e-9 && std::abs(m.transform.rotation(0, 0)) < 1e-9)
+        out.push_back(m);
+    return out;
+  };
+  const auto turns = quarter_turns(composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), {}));
+  ASSERT_EQ(turns.size(), 2u);  // +x onto -y, and -x onto -y
+  for (const auto& m : turns) {
+    // The voters cover one short face, and its centre goes to the long face's centre.
+    ASSERT_GT(m.voters.size(), 100u);
+    Eigen::Vector3d n = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();
+    for (const auto t : m.voters) {
+      n += box.normals().col(t);
+      c += box.positions().col(t);
+    }
+    n.normalize();
+    c /= double(m.voters.size());
+    EXPECT_GT(std::abs(n.x()), 0.99);
+    EXPECT_LT((m.transform.apply(c) - Eigen::Vector3d(0, -0.25, 0.3)).norm(), 2 * alpha);
+  }
+  SymmetryOptions no_face_turns;
+  no_face_turns.face_turns = false;
+  EXPECT_TRUE(
+      quarter_turns(composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), no_face_turns)).empty());
+  // A square box's quarter turns are its symmetries: the faces add no candidate to them.
+  double a2 = 0;
+  const PointSet crate = samples_of(make_crate_template(), a2);
+  SymmetryResult rc = find_symmetries(crate, a2, {});
+  const std::vector<SupportedTransform> front = identity_on_front(crate);
+  const size_t without = composed_candidates(front, rc, crate, a2, Eigen::Vector3d::UnitZ(), {}).size();
+  rc.faces = find_planar_faces(crate, a2, {});
+  EXPECT_EQ(rc.faces.size(), 6u);
+  EXPECT_EQ(composed_candidates(front, rc, crate, a2, Eigen::Vector3d::UnitZ(), {}).size(), without);
 }
 
 // Two closed cylinders of different radii side by side: the whole has no rotational symmetry, but each cylinder is a
@@ -204,7 +257,8 @@ TEST(Symmetry, ComposedCandidatesHoldTheHalfTurnAboutTheSecondCylindersOwnAxis) 
   std::vector<SupportedTransform> found(1);
   for (Index t = 0; t < shape.size(); ++t)
     if (shape.normals().col(t).y() < -0.5) found[0].support.push_back(std::int32_t(t));
-  const std::vector<Mode> turns = half_turns_about_the_second_axis(composed_candidates(found, r, shape, {}));
+  const std::vector<Mode> turns =
+      half_turns_about_the_second_axis(composed_candidates(found, r, shape, alpha, Eigen::Vector3d::UnitZ(), {}));
   ASSERT_EQ(turns.size(), 1u);
   // Its voters are the second cylinder's back, which the half turn carries onto its front.
   ASSERT_GT(turns[0].voters.size(), 100u);
@@ -217,7 +271,9 @@ TEST(Symmetry, ComposedCandidatesHoldTheHalfTurnAboutTheSecondCylindersOwnAxis) 
   // The whole's own symmetries (half turns end over end) do not offer it.
   SymmetryOptions no_parts;
   no_parts.parts = false;
-  EXPECT_TRUE(half_turns_about_the_second_axis(composed_candidates(found, r, shape, no_parts)).empty());
+  EXPECT_TRUE(
+      half_turns_about_the_second_axis(composed_candidates(found, r, shape, alpha, Eigen::Vector3d::UnitZ(), no_parts))
+          .empty());
 }
 
 // A square drawn in the z = 0 plane (mode curves): a half turn about x or y maps it onto itself, but as its mirror
