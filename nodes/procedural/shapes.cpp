@@ -348,6 +348,54 @@ PointSet make_crate_template() {
   return make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.8), Eigen::Vector3d(0, 0, 0.4));
 }
 
+namespace {
+
+double ramp(double x) {
+  return std::clamp(x, 0.0, 1.0);
+}
+
+// The ribbed box's relief at x across a side of `width` (centred) and height z: ribs 0.036 wide every 0.1 from z =
+// 0.12 to 0.55, a plinth band from 0.02 to 0.08, both 0.02 clear of the side's edges.
+double ribbed_relief(double x, double width, double z) {
+  const double phase = x / 0.1 - std::floor(x / 0.1 + 0.5);
+  const double clear = ramp((width / 2 - std::abs(x) - 0.02) / 0.01);
+  const double rib = 0.022 * ramp((0.018 - std::abs(phase) * 0.1) / 0.006);
+  const auto band = [](double v, double lo, double hi) { return ramp((v - lo) / 0.01) * ramp((hi - v) / 0.01); };
+  return clear * std::max(rib * band(z, 0.12, 0.55), 0.02 * band(z, 0.02, 0.08));
+}
+
+}  // namespace
+
+PointSet make_ribbed_box() {
+  MeshBuilder m;
+  const double length = 0.8, depth = 0.5, hgt = 0.6;
+  for (int k = 0; k < 4; ++k) {
+    const double a = k * M_PI / 2, out = k % 2 == 0 ? length / 2 : depth / 2, width = k % 2 == 0 ? depth : length;
+    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0), e(-std::sin(a), std::cos(a), 0);
+    m.grid(
+        [&](double s, double t) {
+          const double x = (s - 0.5) * width, z = t * hgt;
+          return Eigen::Vector3d(n * (out + ribbed_relief(x, width, z)) + e * x + Eigen::Vector3d(0, 0, z));
+        },
+        int(width * 250), 150, false);
+  }
+  const auto cap = [&](double z, bool top) {
+    m.grid(
+        [&](double s, double t) {
+          const double x = (s - 0.5) * length, y = (t - 0.5) * depth;
+          return Eigen::Vector3d(x, top ? y : -y, z);
+        },
+        80, 50, false);
+  };
+  cap(hgt, true);
+  cap(0.0, false);
+  return m.build();
+}
+
+PointSet make_ribbed_box_template() {
+  return make_lowpoly_box(Eigen::Vector3d(0.8, 0.5, 0.6), Eigen::Vector3d(0, 0, 0.3));
+}
+
 PointSet make_disk_pair(double second_scale, bool gears) {
   // Two plain disks (the gear's template) side by side along x; the second scaled about its own base centre.
   const PointSet disk = gears ? make_gear() : make_gear_template();
@@ -793,6 +841,7 @@ const std::vector<std::string>& shape_names() {
                                "table",     "table_template",
                                "bench",     "bench_template",
                                "crate",     "crate_template",
+                               "ribbed_box", "ribbed_box_template",
                                "box8",      "column_template24",
                                "disk_pair", "disk_pair_scaled",
                                "gear_pair", "gear_pair_scaled"};
@@ -827,6 +876,8 @@ PointSet make_shape(const std::string& name) {
   if (name == "bench_template") return make_bench_template();
   if (name == "crate") return make_crate();
   if (name == "crate_template") return make_crate_template();
+  if (name == "ribbed_box") return make_ribbed_box();
+  if (name == "ribbed_box_template") return make_ribbed_box_template();
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
   if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
   if (name == "disk_pair") return make_disk_pair(1.0, false);

@@ -59,6 +59,10 @@ PointSet make_lowpoly_cylinder(double radius, double z0, double height, int side
 // its template: the plain box of 8 vertices. Only quarter turns about z carry one side's relief to another.
 PointSet make_crate();
 PointSet make_crate_template();
+// A box that is not square (0.8 x 0.5 x 0.6, base at z = 0) whose four sides carry raised vertical ribs every 0.1,
+// centred on each side, above a raised plinth band; top and bottom plain. Its template is the plain 8-vertex box.
+PointSet make_ribbed_box();
+PointSet make_ribbed_box_template();
 // Two plain disks (the gear's template) side by side, the second scaled by `second_scale`: the target of the two-body
 // transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
 PointSet make_disk_pair(double second_scale, bool gears);
