@@ -341,6 +341,9 @@ Similarity phase_correction(const PlacedImages& placed, const Similarity& q, con
 constexpr double kFarSlide = 5.0;
 // The same where the scan is as given (`as_given`): no registration moved it, so it stands on the template.
 constexpr double kAsGivenSlide = 1.0;
+// An image is plain when every exemplar sample it carries into its region (1% spared) lies within this many alpha of
+// the template's plane under it (plain_images).
+constexpr double kPlainHeight = 0.5;
 
 // The least registration offset applied, in alpha (applied_offset), and the least that has the refinement score its
 // candidates by truncated least squares (refine). Between the two, the offset is applied but the candidates are
@@ -865,6 +868,28 @@ Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<S
 // The share of a label's carried exemplar samples (`used`) whose source samples an inverse carries onto the template.
 using LandedShare = std::function<double(const Similarity& inv, const std::vector<std::int32_t>& used)>;
 
+// Per label: whether its image is plain (kPlainHeight): the exemplar samples it carries into its region, not its ring,
+// lie on the template (at least 30 of them, and 1% spared). Completion only (`ep` in the template's frame).
+std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSet& T, const KdTree& target_tree,
+                                       const std::vector<std::vector<std::int32_t>>& used,
+                                       const std::vector<std::vector<std::uint8_t>>& in_ring, double spacing) {
+  std::vector<std::uint8_t> plain(used.size(), 0);
+  for (size_t l = 0; l < used.size(); ++l) {
+    Index region = 0, standing = 0;
+    for (size_t i = 0; i < used[l].size(); ++i) {
+      if (in_ring[l][i]) continue;
+      std::int32_t t;
+      double d2;
+      const Eigen::Vector3d p = ep.col(used[l][i]);
+      target_tree.knn(p, 1, &t, &d2);
+      ++region;
+      standing += std::abs(T.normals().col(t).dot(p - T.positions().col(t))) > kPlainHeight * spacing;
+    }
+    plain[l] = region >= 30 && 100 * standing <= region;
+  }
+  return plain;
+}
+
 // Refines each used transform's inverse (source -> target) against the exemplar images already placed: the anchor
 // (the exemplar itself, or the biggest region's image) first, then the most overlapping image each time, corrected
 // in phase along its slippable motions (`slips`, per label) and by rigid point-to-plane ICP on the overlap. With the
@@ -875,13 +900,15 @@ using LandedShare = std::function<double(const Similarity& inv, const std::vecto
 // at least kTruncatingOffset, the refinement's candidates are scored by truncated least squares (see `refinement`). The
 // slippable motions stay about the template's centres: moved by the offset too, as the images' axes are, they were
 // neutral on the sweep but lost the gear seen from (-1, -0.3, 0.1), F 0.938 -> 0.833 (one label's phase 11.7 degrees,
-// not 2.9, and the labels fitted after it followed it).
+// not 2.9, and the labels fitted after it followed it). A plain image (`plain`: a box's plain lid flipped onto its
+// plain floor) has no detail to fit: only its ring overlaps detail, and fitting that slid the ribbed box's flipped lid
+// 1.5 cm along its floor, the sides' strips with it (F 0.909); it keeps the analogy's transform.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
             const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
             const std::vector<Slippage>& slips, std::vector<Similarity>& inv,
             std::vector<std::optional<PhaseSplit>>& splits, const std::vector<TurningPart>* turning_parts,
-            const LandedShare& landed_share, bool as_given, Synthesis& out) {
+            const LandedShare& landed_share, bool as_given, const std::vector<std::uint8_t>& plain, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -915,7 +942,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const AxialRepeats* r = axis ? repeats.about({axis->first, axis->second}) : nullptr;
     if (const auto flipped = r ? flip_phase(placed, *r, labelled, spacing) : std::nullopt) {
       inv[best] = *flipped;
-    } else if (best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
+    } else if (!plain[best] && best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little says nothing
       const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
       inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, landed)
                       .compose(inv[best]);
@@ -1430,8 +1457,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   const LandedShare share_landed = [&](const Similarity& inv, const std::vector<std::int32_t>& carried) {
     return landed_share(in, target_tree, spacing * o.reach, inv, carried);
   };
+  const std::vector<std::uint8_t> plain = in.covered ? plain_images(ep, T, target_tree, used, in_ring, spacing)
+                                                     : std::vector<std::uint8_t>(in.transforms.size(), 0);
   refine(ep, en, region_size, used, in.covered ? &on_template : nullptr, relief, spacing, o, slips, inverse, splits,
-         in.turning_parts, share_landed, in.scan_as_given, out);
+         in.turning_parts, share_landed, in.scan_as_given, plain, out);
   // Per synthesised sample: where its source sample lands on the target. The images sit the exemplar's registration
   // offset d off the template (the exemplar does), and a source sample lies on its exemplar sample up to relief (the
   // correspondence deforms the template onto the scan): so in the template's frame, each transform followed by -d.
