@@ -901,8 +901,9 @@ std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSe
 // slippable motions stay about the template's centres: moved by the offset too, as the images' axes are, they were
 // neutral on the sweep but lost the gear seen from (-1, -0.3, 0.1), F 0.938 -> 0.833 (one label's phase 11.7 degrees,
 // not 2.9, and the labels fitted after it followed it). A plain image (`plain`: a box's plain lid flipped onto its
-// plain floor) has no detail to fit: only its ring overlaps detail, and fitting that slid the ribbed box's flipped lid
-// 1.5 cm along its floor, the sides' strips with it (F 0.909); it keeps the analogy's transform.
+// plain floor) on a region with slippable motions has no detail to fix its phase along them: only its ring overlaps
+// detail, and fitting that slid the ribbed box's flipped lid 1.5 cm along its floor, the sides' strips with it (F
+// 0.909); it keeps the analogy's transform. Where the region slips nowhere (a blob), its own shape fixes the fit.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
             const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
@@ -942,7 +943,8 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const AxialRepeats* r = axis ? repeats.about({axis->first, axis->second}) : nullptr;
     if (const auto flipped = r ? flip_phase(placed, *r, labelled, spacing) : std::nullopt) {
       inv[best] = *flipped;
-    } else if (!plain[best] && best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little says nothing
+    } else if (!(plain[best] && !slip.motions.empty()) &&
+               best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
       const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
       inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, landed)
                       .compose(inv[best]);
