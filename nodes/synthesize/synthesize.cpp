@@ -869,8 +869,10 @@ Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<S
 using LandedShare = std::function<double(const Similarity& inv, const std::vector<std::int32_t>& used)>;
 
 // Per label: whether its image is plain (kPlainHeight): the exemplar samples it carries into its region, not its ring,
-// lie on the template (at least 30 of them, and 1% spared). Completion only (`ep` in the template's frame).
+// land on the template under its labelled `inverse` (at least 30 of them, and 1% spared): no relief, and no misfit
+// for the refinement to correct. Completion only (`ep` in the template's frame).
 std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSet& T, const KdTree& target_tree,
+                                       const std::vector<Similarity>& inverse,
                                        const std::vector<std::vector<std::int32_t>>& used,
                                        const std::vector<std::vector<std::uint8_t>>& in_ring, double spacing) {
   std::vector<std::uint8_t> plain(used.size(), 0);
@@ -880,7 +882,7 @@ std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSe
       if (in_ring[l][i]) continue;
       std::int32_t t;
       double d2;
-      const Eigen::Vector3d p = ep.col(used[l][i]);
+      const Eigen::Vector3d p = inverse[l].apply(ep.col(used[l][i]));
       target_tree.knn(p, 1, &t, &d2);
       ++region;
       standing += std::abs(T.normals().col(t).dot(p - T.positions().col(t))) > kPlainHeight * spacing;
@@ -901,9 +903,9 @@ std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSe
 // slippable motions stay about the template's centres: moved by the offset too, as the images' axes are, they were
 // neutral on the sweep but lost the gear seen from (-1, -0.3, 0.1), F 0.938 -> 0.833 (one label's phase 11.7 degrees,
 // not 2.9, and the labels fitted after it followed it). A plain image (`plain`: a box's plain lid flipped onto its
-// plain floor) on a region with slippable motions has no detail to fix its phase along them: only its ring overlaps
-// detail, and fitting that slid the ribbed box's flipped lid 1.5 cm along its floor, the sides' strips with it (F
-// 0.909); it keeps the analogy's transform. Where the region slips nowhere (a blob), its own shape fixes the fit.
+// plain floor, lying on the template) has nothing to fit: only its ring overlaps detail, and fitting that slid the
+// ribbed box's flipped lid 1.5 cm along its floor, the sides' strips with it (F 0.909); it keeps the analogy's
+// transform. An image off the template (a blob's, 0.6 alpha off) is not plain: its shape fits it back.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
             const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
@@ -943,8 +945,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     const AxialRepeats* r = axis ? repeats.about({axis->first, axis->second}) : nullptr;
     if (const auto flipped = r ? flip_phase(placed, *r, labelled, spacing) : std::nullopt) {
       inv[best] = *flipped;
-    } else if (!(plain[best] && !slip.motions.empty()) &&
-               best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little overlap says nothing
+    } else if (!plain[best] && best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little says nothing
       const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
       inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, landed)
                       .compose(inv[best]);
@@ -1459,8 +1460,9 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   const LandedShare share_landed = [&](const Similarity& inv, const std::vector<std::int32_t>& carried) {
     return landed_share(in, target_tree, spacing * o.reach, inv, carried);
   };
-  const std::vector<std::uint8_t> plain = in.covered ? plain_images(ep, T, target_tree, used, in_ring, spacing)
-                                                     : std::vector<std::uint8_t>(in.transforms.size(), 0);
+  const std::vector<std::uint8_t> plain =
+      in.covered ? plain_images(ep, T, target_tree, labelled_inverse, used, in_ring, spacing)
+                 : std::vector<std::uint8_t>(in.transforms.size(), 0);
   refine(ep, en, region_size, used, in.covered ? &on_template : nullptr, relief, spacing, o, slips, inverse, splits,
          in.turning_parts, share_landed, in.scan_as_given, plain, out);
   // Per synthesised sample: where its source sample lands on the target. The images sit the exemplar's registration
