@@ -367,6 +367,24 @@ FoundModesPtr modes_stage(RunState& state, const VotesPtr& in) {
   });
 }
 
+namespace {
+
+// label.up, else the target's own axis, else +z, said when the config does not set it (a model drawn y-up without a
+// telling symmetry needs the key).
+Eigen::Vector3d up_direction(const LabelOptions& label, const SymmetryResult& target_symmetry) {
+  if (label.up) return *label.up;
+  if (const auto axis = upright_axis(target_symmetry)) {
+    node_logger("support")->info("up ({:.3g}, {:.3g}, {:.3g}): the target's symmetry axis", axis->x(), axis->y(),
+                                 axis->z());
+    return *axis;
+  }
+  node_logger("support")->info(
+      "up +z: the target's symmetry singles out no axis (set label.up for a model drawn otherwise)");
+  return Eigen::Vector3d::UnitZ();
+}
+
+}  // namespace
+
 SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
   const RunConfig& config = state.config;
   return run_node(state, "support", "", [&](const ProgressFn&) {
@@ -385,9 +403,9 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const SymmetryResult& symmetry = v.symmetries->target_symmetry;
-    const Eigen::Vector3d up = config.label.up.value_or(upright_axis(symmetry).value_or(Eigen::Vector3d::UnitZ()));
+    s->up = up_direction(config.label, symmetry);
     const std::vector<Mode> composed =
-        composed_candidates(voted.transforms, symmetry, T, v.spacing(), up, config.symmetry);
+        composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry);
     s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());
@@ -399,30 +417,13 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
   });
 }
 
-namespace {
-
-// label.up unset: the target's own axis, else +z, said either way (a model drawn y-up without a telling symmetry needs
-// the key).
-Eigen::Vector3d up_from_symmetry(const SymmetryResult& target_symmetry) {
-  if (const auto axis = upright_axis(target_symmetry)) {
-    node_logger("label")->info("up ({:.3g}, {:.3g}, {:.3g}): the target's symmetry axis", axis->x(), axis->y(),
-                               axis->z());
-    return *axis;
-  }
-  node_logger("label")->info(
-      "up +z: the target's symmetry singles out no axis (set label.up for a model drawn otherwise)");
-  return Eigen::Vector3d::UnitZ();
-}
-
-}  // namespace
-
 LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
   return run_node(state, "label", "", [&](const ProgressFn&) {
     const Votes& v = *in->modes->votes;
     auto a = std::make_shared<Labelled>();
     a->supports = in;
     LabelOptions options = state.config.label;
-    if (!options.up) options.up = up_from_symmetry(v.symmetries->target_symmetry);
+    options.up = in->up;
     a->labels = label_target(v.source(), v.target()->features.points, in->support.transforms, v.spacing(), options);
     node_logger("label")->info("energy {:.6g} -> {:.6g} in {} sweeps; {} samples relabelled by the clean-up",
                                a->labels.energy_before, a->labels.energy_after, a->labels.cycles, a->labels.cleaned);

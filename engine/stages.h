@@ -89,8 +89,9 @@ using FoundModesPtr = std::shared_ptr<const FoundModes>;
 struct Supports {
   FoundModesPtr modes;
   SupportResult support;
-  Index voted = 0;     // transforms grown from the modes
-  Index composed = 0;  // candidates composed with the target's symmetries
+  Index voted = 0;                                // transforms grown from the modes
+  Index composed = 0;                             // candidates composed with the target's symmetries
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else +z (label uses it too)
 };
 using SupportsPtr = std::shared_ptr<const Supports>;
 struct Labelled {

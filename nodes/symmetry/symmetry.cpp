@@ -119,21 +119,22 @@ std::vector<std::vector<std::int32_t>> smooth_components(const PointSet& shape, 
   std::vector<double> d2;
   const std::vector<std::int32_t> graph = knn_graph(tree, shape.positions(), k, &d2);
   const double cos_limit = std::cos(normal_angle_deg * M_PI / 180), limit2 = std::pow(3 * spacing, 2);
+  const auto edge = [&](Index i, int e) {  // a neighbour within reach
+    return graph[size_t(i * k + e)] >= 0 && d2[size_t(i * k + e)] <= limit2;
+  };
   const auto agree = [&](Index i, int e) {
-    const std::int32_t j = graph[size_t(i * k + e)];
-    return j < 0 || d2[size_t(i * k + e)] > limit2 || shape.normals().col(i).dot(shape.normals().col(j)) >= cos_limit;
+    return shape.normals().col(i).dot(shape.normals().col(graph[size_t(i * k + e)])) >= cos_limit;
   };
   std::vector<std::uint8_t> joins(size_t(n), 1);
   if (interior)
     for (Index i = 0; i < n; ++i)
-      for (int e = 0; e < k; ++e) joins[size_t(i)] = joins[size_t(i)] && agree(i, e);
+      for (int e = 0; e < k; ++e) joins[size_t(i)] = joins[size_t(i)] && (!edge(i, e) || agree(i, e));
   DisjointSets sets(n);
   for (Index i = 0; i < n; ++i)
     for (int e = 0; e < k; ++e) {
+      if (!edge(i, e) || !agree(i, e)) continue;
       const std::int32_t j = graph[size_t(i * k + e)];
-      if (j < 0 || d2[size_t(i * k + e)] > limit2 || !joins[size_t(i)] || !joins[size_t(j)]) continue;
-      if (shape.normals().col(i).dot(shape.normals().col(j)) < cos_limit) continue;
-      sets.join(std::int32_t(i), j);
+      if (joins[size_t(i)] && joins[size_t(j)]) sets.join(std::int32_t(i), j);
     }
   std::vector<std::vector<std::int32_t>> components;
   std::vector<std::int32_t> slot(static_cast<size_t>(n), -1);
