@@ -103,11 +103,23 @@ double tilt(const Similarity& q, const LabelOptions& o) {
 }
 
 // Ours: each sample's own preference for the transform that keeps the object upright, o.upright_unary (1 - cos tilt)
-// / 2. Where the template fits a flip and a turn about the vertical alike (a box's back faces), the label cost alone
-// lets one flip cover the back faces and the bottom at once, turning the style upside down; this makes each sample
-// pay for it.
+// / 2, where such a transform is feasible. Where the template fits a flip and a turn about the vertical alike (a box's
+// back faces), the label cost alone lets one flip cover the back faces and the bottom at once, turning the style
+// upside down; this makes each sample pay for it. Where no upright transform reaches (a gear's unseen face, which
+// only a flip carries the seen one onto), the flip competes with the plain copy unburdened.
 double upright_unary(const Similarity& q, const LabelOptions& o) {
   return o.upright_unary * tilt(q, o);
+}
+
+// Whether some transform feasible at sample t keeps the object upright (tilted by under ~10 degrees).
+bool upright_feasible(const LabelingProblem& problem, Index t, const std::vector<SupportedTransform>& transforms,
+                      const LabelOptions& o) {
+  constexpr double kUpright = 0.0076;  // (1 - cos 10 degrees) / 2
+  for (std::int64_t e = problem.unary_offset[size_t(t)]; e < problem.unary_offset[size_t(t) + 1]; ++e) {
+    const int l = problem.unary_label[size_t(e)];
+    if (l < int(transforms.size()) && tilt(transforms[size_t(l)].transform, o) < kUpright) return true;
+  }
+  return false;
 }
 
 void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const PointSet& target,
@@ -115,12 +127,16 @@ void fill_unary_costs(const PointSet& source, const KdTree& source_tree, const P
                       const LabelOptions& o, LabelingProblem& problem) {
   const int L = int(transforms.size());
   tbb::parallel_for(Index(0), target.size(), [&](Index t) {
+    const bool upright = upright_feasible(problem, t, transforms, o);
     for (std::int64_t e = problem.unary_offset[size_t(t)]; e < problem.unary_offset[size_t(t) + 1]; ++e) {
       const int l = problem.unary_label[size_t(e)];
+      if (l == L) {
+        problem.unary_cost[size_t(e)] = o.self_cost;
+        continue;
+      }
+      const Similarity& q = transforms[size_t(l)].transform;
       problem.unary_cost[size_t(e)] =
-          l == L ? o.self_cost
-                 : eq5_unary(source, source_tree, target, t, transforms[size_t(l)].transform, spacing, scales, o) +
-                       upright_unary(transforms[size_t(l)].transform, o);
+          eq5_unary(source, source_tree, target, t, q, spacing, scales, o) + (upright ? upright_unary(q, o) : 0);
     }
   });
 }

@@ -21,9 +21,11 @@
 //    1%, translation under alpha) and h = N (ln 2 + sum_a (1 - cos 4 R_a) + (s - 1)^2) otherwise, R_a the Euler angles
 //    (R = R_x R_y R_z), so N ln 2 for an axis rotation at unit scale.
 //  - the self-reference label has the constant unary self_cost.
-//  - each transform's unary also carries upright_unary (1 - cos tilt) / 2: where the template fits a flip and a turn
-//    about the vertical alike (a box's unseen sides), the label cost alone lets one flip cover the sides and the
-//    bottom together, turning their style upside down; per sample, the upright turn wins where it fits.
+//  - each transform's unary also carries upright_unary (1 - cos tilt) / 2 at a sample where some feasible transform
+//    keeps the object upright (tilts it by under 10 degrees): where the template fits a flip and a turn about the
+//    vertical alike (a box's unseen sides), the label cost alone lets one flip cover the sides and the bottom
+//    together, turning their style upside down; per sample, the upright turn wins where it fits. Where nothing
+//    upright reaches (a box's bottom, a gear's unseen face), the flip competes with the plain copy unburdened.
 //  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees (the paper's: every
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its

@@ -133,5 +133,32 @@ TEST(Label, EachSampleOnAnUnseenSideFacePrefersTheHalfTurnAboutTheVerticalToAFli
   EXPECT_GT(side0[1], 95 * sides / 100) << "without it, label costs alone let the flip take the side faces";
 }
 
+// The same cube with the identity supported on its seen faces only: on the bottom, away from its edges, no upright
+// transform is feasible, and the flip is the only one that carries the seen top there. The upright unary is then no
+// cost to it: even at a weight far above the plain copy's (self_cost 8), the bottom takes the flip, not a copy.
+TEST(Label, WhereNoUprightTransformIsFeasibleTheFlipPaysNoUprightUnary) {
+  const SampleResult s = sample(make_box(Eigen::Vector3d(0.6, 0.6, 0.6)), {.count = 3000});
+  const PointSet cube = estimate_features(s.samples, {}).points;
+  std::vector<std::int32_t> seen;
+  for (Index t = 0; t < cube.size(); ++t)
+    if (cube.normals().col(t).maxCoeff() > 0.9) seen.push_back(std::int32_t(t));  // the +x, +y and +z faces
+  const PointSet source = subset(cube, seen);
+  std::vector<SupportedTransform> transforms{about(Eigen::Vector3d::UnitZ(), 0), about(Eigen::Vector3d(1, -1, 0), 180)};
+  transforms[0].support = seen;
+  for (Index t = 0; t < cube.size(); ++t)
+    if (cube.normals().col(t).maxCoeff() < 0.9) transforms[1].support.push_back(std::int32_t(t));
+  LabelOptions o;
+  o.upright_unary = 20;
+  const LabelResult r = label_target(source, cube, transforms, s.spacing, o);
+  Index bottom = 0, flipped = 0;
+  for (Index t = 0; t < cube.size(); ++t)
+    if (cube.normals().col(t).z() < -0.9 && cube.positions().col(t).head<2>().cwiseAbs().maxCoeff() < 0.2) {
+      ++bottom;
+      flipped += r.labels[size_t(t)] == 1;
+    }
+  ASSERT_GT(bottom, 100);
+  EXPECT_GT(flipped, 95 * bottom / 100);
+}
+
 }  // namespace
 }  // namespace scanfill
