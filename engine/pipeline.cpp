@@ -157,8 +157,9 @@ void build_completion(Wiring& w) {
   auto& cover =
       w.node<CorrespondencePtr, CoveragePtr>([&w](const CorrespondencePtr& in) { return cover_stage(w.state, in); });
   flow::make_edge(add_correspond(w, scan, templ), cover);
-  auto& symmetry = w.node<CoveragePtr, SymmetriesPtr>(
-      [&w](const CoveragePtr& in) { return symmetry_stage(w.state, in->cover.source, in->correspondence->source); });
+  auto& symmetry = w.node<CoveragePtr, SymmetriesPtr>([&w](const CoveragePtr& in) {
+    return symmetry_stage(w.state, in->cover.source, in->correspondence->source, in->correspondence);
+  });
   flow::make_edge(cover, symmetry);
   auto& synthesize = w.node<std::tuple<CoveragePtr, LabelledPtr>, SynthesizedPtr>([&w](const auto& in) {
     const CoveragePtr& coverage = std::get<0>(in);

@@ -321,11 +321,13 @@ std::string describe(const SymmetryResult& s) {
 
 }  // namespace
 
-SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target) {
+SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target,
+                             const CorrespondencePtr& correspondence) {
   return run_node(state, "symmetry", "", [&](const ProgressFn&) {
     auto s = std::make_shared<Symmetries>();
     s->source = source;
     s->target = target;
+    s->correspondence = correspondence;
     s->spacing = target->sampled->sample.spacing;
     SymmetryOptions options = state.config.symmetry;
     options.planar = state.config.mode == RunMode::kCurves;
@@ -404,8 +406,10 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const SymmetryResult& symmetry = v.symmetries->target_symmetry;
     s->up = up_direction(config.label, symmetry);
+    const Correspondence* scan = v.symmetries->correspondence.get();
     const std::vector<Mode> composed =
-        composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry);
+        composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,
+                            scan ? &scan->exemplar->features.points : nullptr, scan ? scan->map.rigid : Similarity{});
     s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());

@@ -69,6 +69,7 @@ using CoveragePtr = std::shared_ptr<const Coverage>;
 struct Symmetries {
   PointSet source;  // S
   FeaturedPtr target;
+  CorrespondencePtr correspondence;  // completion: the scan on the template (support's face shifts read it); else null
   double spacing = 0;
   SymmetryResult source_symmetry, target_symmetry;
 };
@@ -225,7 +226,8 @@ LoadedPtr load_curves_stage(RunState& state, const Input& input);
 FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const FeaturedPtr& reference);
 CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar, const FeaturedPtr& source);
 CoveragePtr cover_stage(RunState& state, const CorrespondencePtr& correspondence);
-SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target);
+SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const FeaturedPtr& target,
+                             const CorrespondencePtr& correspondence = nullptr);
 VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in);
 FoundModesPtr modes_stage(RunState& state, const VotesPtr& in);
 SupportsPtr support_stage(RunState& state, const FoundModesPtr& in);

@@ -13,6 +13,7 @@
 #include "nodes/core/disjoint_sets.h"
 #include "nodes/core/errors.h"
 #include "nodes/core/kdtree.h"
+#include "nodes/symmetry/face_repeat.h"
 #include "nodes/symmetry/symmetry_options.h"
 
 namespace scanfill {
@@ -197,12 +198,105 @@ std::optional<Similarity> face_turn(const PlanarFace& a, const PlanarFace& b, co
   return Similarity{R, b.centre - R * a.centre, 1.0};
 }
 
+// Positions and normals moved by q.
+PointSet moved_by(const PointSet& points, const Similarity& q) {
+  Eigen::Matrix3Xd p(3, points.size()), n(3, points.size());
+  for (Index i = 0; i < points.size(); ++i) {
+    p.col(i) = q.apply(points.positions().col(i));
+    n.col(i) = q.apply_normal(points.normals().col(i));
+  }
+  PointSet out(std::move(p));
+  out.set_normals(std::move(n));
+  return out;
+}
+
+// The exemplar (in the source's frame, with normals) and a tree over its positions.
+struct FaceExemplar {
+  const PointSet& points;
+  const KdTree& tree;
+};
+
+// The exemplar's samples on face A as Q sees it: those whose image under Q^-1 lies within 4 alpha of Q's support on A
+// (`on_a`, ascending), nearest to it; relief stands off the plain template by up to that.
+std::vector<std::int32_t> exemplar_on_face(const FaceExemplar& exemplar, const Similarity& q,
+                                           const std::vector<std::int32_t>& on_a, const KdTree& tree, double spacing) {
+  const Similarity q_inv = q.inverse();
+  std::vector<std::int32_t> near;
+  for (Index e = 0; e < exemplar.points.size(); ++e) {
+    std::int32_t t;
+    double d2;
+    if (tree.knn(q_inv.apply(exemplar.points.positions().col(e)), 1, &t, &d2) == 1 && d2 <= std::pow(4 * spacing, 2) &&
+        std::binary_search(on_a.begin(), on_a.end(), t))
+      near.push_back(std::int32_t(e));
+  }
+  return near;
+}
+
+// The samples' extent along `direction`, each mapped by `map` first.
+std::pair<double, double> extent_along(const Eigen::Matrix3Xd& positions, const std::vector<std::int32_t>& samples,
+                                       const Similarity& map, const Eigen::Vector3d& direction) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const std::int32_t i : samples) {
+    const double u = direction.dot(map.apply(positions.col(i)));
+    lo = std::min(lo, u);
+    hi = std::max(hi, u);
+  }
+  return {lo, hi};
+}
+
+// The shifts along A that bring B's turned end, `gap` past A's edge, onto A in phase with the exemplar's relief, A
+// being `width` wide: each the smallest multiple of the period that reaches the end within an alpha, or else the
+// largest whose image still joins the images before it (at most 8); for a plain face, any shift is in phase.
+std::vector<double> phase_shifts(const FaceRepeat& repeat, double gap, double width, double spacing) {
+  std::vector<double> shifts;
+  double reached = 0;  // how far past A's edge the images so far reach
+  while (reached < gap - spacing && shifts.size() < 8) {
+    double shift = std::min(gap, reached + width);
+    if (repeat.period > 0) {
+      const double p = repeat.period;
+      shift = std::min(std::ceil((gap - spacing) / p) * p, std::floor((reached + width) / p) * p);
+    }
+    if (shift <= reached) break;  // a period longer than A: no image joins
+    shifts.push_back(shift);
+    reached = shift;
+  }
+  return shifts;
+}
+
+// Where face B, turned onto face A centre onto centre, reaches past A's edges along A (B is the wider) and Q's support
+// holds most of A (the exemplar shows it): the turn composed with shifts along A that carry B's ends onto A, by
+// multiples of the exemplar's own repeat along A (repeat_along), so that the ends take A's relief in phase with B's
+// middle. None when the exemplar on A does not repeat.
+void append_shifted_turns(const Similarity& q, const std::vector<std::int32_t>& on_a, const PlanarFace& a,
+                          const PlanarFace& b, const Similarity& turn, const Eigen::Vector3d& up,
+                          const FaceExemplar& exemplar, double spacing, double reach, const PointSet& target,
+                          const KdTree& tree, std::vector<Mode>& out) {
+  const Eigen::Vector3d along = up.cross(a.normal).normalized();
+  const auto [a_lo, a_hi] = extent_along(target.positions(), a.samples, Similarity{}, along);
+  const auto [b_lo, b_hi] = extent_along(target.positions(), b.samples, turn, along);
+  const double gap_hi = b_hi - a_hi, gap_lo = a_lo - b_lo;
+  if (std::max(gap_hi, gap_lo) <= 2 * spacing || 2 * on_a.size() < a.samples.size()) return;
+  const std::vector<std::int32_t> near = exemplar_on_face(exemplar, q, on_a, tree, spacing);
+  const auto repeat = repeat_along(exemplar.points, exemplar.tree, near, (q.rotation * along).normalized(),
+                                   spacing * q.scale, 0.5 * (a_hi - a_lo) * q.scale);
+  if (!repeat) return;
+  const FaceRepeat in_target{repeat->period / q.scale};
+  for (const auto& [gap, sign] : {std::pair{gap_hi, -1.0}, std::pair{gap_lo, 1.0}}) {
+    if (gap <= 2 * spacing) continue;
+    for (const double shift : phase_shifts(in_target, gap, a_hi - a_lo, spacing)) {
+      const Similarity shifted = Similarity{Eigen::Matrix3d::Identity(), sign * shift * along, 1.0}.compose(turn);
+      out.push_back(composed_mode(q, shifted, on_a, target, tree, reach));
+    }
+  }
+}
+
 // Q composed with the turns about `up` that carry a face B of T onto a face A that Q's support reaches (face_turn),
-// where no symmetry in `group` is that turn; only the support on A votes.
+// where no symmetry in `group` is that turn; only the support on A votes. With the exemplar, also the turns shifted
+// along A onto B's ends where B is the wider (append_shifted_turns).
 void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& support,
                        const std::vector<PlanarFace>& faces, const std::vector<Similarity>& group,
                        const Eigen::Vector3d& up, double spacing, double reach, const PointSet& target,
-                       const KdTree& tree, std::vector<Mode>& out) {
+                       const KdTree& tree, const FaceExemplar* exemplar, std::vector<Mode>& out) {
   for (const PlanarFace& a : faces) {
     std::vector<std::int32_t> on_a;
     std::set_intersection(support.begin(), support.end(), a.samples.begin(), a.samples.end(), std::back_inserter(on_a));
@@ -212,7 +306,9 @@ void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& sup
       if (!turn) continue;
       const bool symmetry = std::any_of(group.begin(), group.end(),
                                         [&](const Similarity& g) { return same_rotation(g, *turn, 3 * spacing); });
-      if (!symmetry) out.push_back(composed_mode(q, *turn, on_a, target, tree, reach));
+      if (symmetry) continue;
+      out.push_back(composed_mode(q, *turn, on_a, target, tree, reach));
+      if (exemplar) append_shifted_turns(q, on_a, a, b, *turn, up, *exemplar, spacing, reach, target, tree, out);
     }
   }
 }
@@ -391,13 +487,18 @@ void snap_to_family_representatives(std::vector<SupportedTransform>& transforms,
 
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
                                       const SymmetryResult& target_symmetry, const PointSet& target, double spacing,
-                                      const Eigen::Vector3d& up, const SymmetryOptions& o) {
+                                      const Eigen::Vector3d& up, const SymmetryOptions& o, const PointSet* exemplar,
+                                      const Similarity& exemplar_to_source) {
   std::vector<Mode> out;
   const bool faces = o.face_turns && target_symmetry.faces.size() > 1;
   if (!o.enabled || (target_symmetry.rotations.empty() && target_symmetry.parts.empty() && !faces) || found.empty())
     return out;
-  KdTree tree;
+  KdTree tree, exemplar_tree;
   tree.build(target.positions());
+  const PointSet registered = exemplar && faces ? moved_by(*exemplar, exemplar_to_source) : PointSet{};
+  if (!registered.empty()) exemplar_tree.build(registered.positions());
+  const std::optional<FaceExemplar> face_exemplar =
+      registered.empty() ? std::nullopt : std::optional<FaceExemplar>(FaceExemplar{registered, exemplar_tree});
   const size_t bases = std::min<size_t>(found.size(), size_t(std::max(0, o.max_base_transforms)));
   for (size_t b = 0; b < bases; ++b) {
     const SupportedTransform& q = found[b];
@@ -415,7 +516,7 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
     if (o.parts) append_part_turns(base, q.support, target_symmetry.parts, o.part_turns, target, tree, out);
     if (faces)
       append_face_turns(base, q.support, target_symmetry.faces, target_symmetry.rotations, up, spacing,
-                        o.distance * spacing, target, tree, out);
+                        o.distance * spacing, target, tree, face_exemplar ? &*face_exemplar : nullptr, out);
   }
   return out;
 }

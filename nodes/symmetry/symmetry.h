@@ -127,9 +127,14 @@ void snap_to_family_representatives(std::vector<SupportedTransform>& transforms,
 // also composed with the turn about `up` by a multiple of 90 degrees that carries a flat face B of T onto a face A that
 // Q's support reaches, centre onto centre, where no symmetry of T does so (a box that is not square has no quarter
 // turn, yet its short side takes its long side's relief, centred): the voters are B's samples that the turn carries
-// within `distance` alpha of the support on A.
+// within `distance` alpha of the support on A. Given the exemplar (completion: the scan's samples, with normals, and
+// `exemplar_to_source`, their registration onto the template), where B is wider than A the turn is also shifted along A
+// onto B's ends, by multiples of the exemplar's own repeat along A (face_repeat.h), so that the ends take A's relief in
+// phase with B's middle.
 std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& found,
                                       const SymmetryResult& target_symmetry, const PointSet& target, double spacing,
-                                      const Eigen::Vector3d& up, const SymmetryOptions& options);
+                                      const Eigen::Vector3d& up, const SymmetryOptions& options,
+                                      const PointSet* exemplar = nullptr,
+                                      const Similarity& exemplar_to_source = Similarity{});
 
 }  // namespace scanfill

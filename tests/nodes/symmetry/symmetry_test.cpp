@@ -1,12 +1,18 @@
 // symmetry node: known answers on shapes whose symmetry group is known (a box, a cylinder, a blob, two disks), the
-// vote quotient on a ring of equivalent motions, and the composed candidates of a box.
+// vote quotient on a ring of equivalent motions, the composed candidates of a box, and an exemplar's repeat along a
+// face.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
+#include <functional>
+#include <numeric>
 
+#include "nodes/core/kdtree.h"
 #include "nodes/curves/sample_curves.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
+#include "nodes/symmetry/face_repeat.h"
 #include "nodes/symmetry/symmetry.h"
 
 namespace scanfill {
@@ -206,6 +212,93 @@ TEST(Symmetry, ComposedCandidatesTurnALongFaceOntoTheShortOnesOfABoxThatIsNotSqu
   rc.faces = find_planar_faces(crate, a2, {});
   EXPECT_EQ(rc.faces.size(), 6u);
   EXPECT_EQ(composed_candidates(front, rc, crate, a2, Eigen::Vector3d::UnitZ(), {}).size(), without);
+}
+
+// A face of `width` along y by 0.6 high at x = `x0`, facing +x, sampled on a grid every `step`, its height out of the
+// face given by `relief` (of y); normals +x, as a scan of ribs seen square on gives them.
+PointSet relief_face(double x0, double width, double step, const std::function<double(double)>& relief) {
+  std::vector<Eigen::Vector3d> p;
+  for (double y = -width / 2; y <= width / 2 + 1e-9; y += step)
+    for (double z = 0; z <= 0.6 + 1e-9; z += step) p.emplace_back(x0 + relief(y), y, z);
+  Eigen::Matrix3Xd positions(3, Index(p.size()));
+  for (size_t i = 0; i < p.size(); ++i) positions.col(Index(i)) = p[i];
+  PointSet out(positions);
+  out.set_normals(Eigen::Matrix3Xd::Zero(3, Index(p.size())).colwise() + Eigen::Vector3d::UnitX());
+  return out;
+}
+
+// Ribs 3.6 cm wide and 2 cm high every 10 cm, one at the face's centre.
+double ribs(double y) {
+  const double phase = y / 0.1 - std::floor(y / 0.1 + 0.5);
+  return std::abs(phase) * 0.1 < 0.018 ? 0.02 : 0.0;
+}
+
+std::optional<FaceRepeat> repeat_of(const PointSet& face, double step) {
+  KdTree tree;
+  tree.build(face.positions());
+  std::vector<std::int32_t> all(size_t(face.size()));
+  std::iota(all.begin(), all.end(), 0);
+  return repeat_along(face, tree, all, Eigen::Vector3d::UnitY(), step, 0.25);
+}
+
+TEST(FaceRepeat, RibsEveryTenCentimetresRepeatEveryTenCentimetres) {
+  const double step = 0.005;
+  const auto r = repeat_of(relief_face(0.25, 0.5, step, ribs), step);
+  ASSERT_TRUE(r);
+  EXPECT_NEAR(r->period, 0.1, 0.5 * step);
+}
+
+TEST(FaceRepeat, APlainFaceLandsOnItselfAtEveryShift) {
+  const double step = 0.005;
+  const auto r = repeat_of(relief_face(0.25, 0.5, step, [](double) { return 0.0; }), step);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->period, 0.0);
+}
+
+TEST(FaceRepeat, AMedallionAtTheCentreDoesNotRepeat) {
+  const double step = 0.005;
+  EXPECT_FALSE(repeat_of(relief_face(0.25, 0.5, step, [](double y) { return std::abs(y) < 0.06 ? 0.02 : 0.0; }), step));
+}
+
+// The box that is not square seen on its short +x face, ribbed every 10 cm: the quarter turns carry each long face's
+// middle onto it, centre onto centre; shifted along it by two ribs' period they carry the long face's ends,
+// so that the ends take ribs in phase with the middle's. A plain exemplar shifts by the overhang itself (15 cm).
+TEST(Symmetry, ComposedCandidatesShiftALongFacesTurnByTheExemplarsRepeatOntoItsEnds) {
+  double alpha = 0;
+  const PointSet box = samples_of(make_lowpoly_box(Eigen::Vector3d(0.8, 0.5, 0.6), Eigen::Vector3d(0, 0, 0.3)), alpha);
+  SymmetryResult r = find_symmetries(box, alpha, {});
+  r.faces = find_planar_faces(box, alpha, {});
+  std::vector<SupportedTransform> found(1);
+  for (Index t = 0; t < box.size(); ++t)
+    if (box.normals().col(t).x() > 0.9) found[0].support.push_back(std::int32_t(t));
+  // Per long face (-y, +y), where each quarter turn carries its centre along the short face, in ascending order.
+  const auto shifts_along_y = [&](const PointSet& exemplar) {
+    std::array<std::vector<double>, 2> shifts;
+    for (const Mode& m :
+         composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), {}, &exemplar, Similarity{}))
+      if (std::abs(m.transform.rotation(2, 2) - 1) < 1e-9 && std::abs(m.transform.rotation(0, 0)) < 1e-9) {
+        const int face = m.transform.rotation(0, 1) > 0 ? 1 : 0;  // the long face the turn carries onto +x
+        shifts[size_t(face)].push_back(m.transform.apply(Eigen::Vector3d(0, face ? 0.25 : -0.25, 0.3)).y());
+      }
+    for (auto& s : shifts) std::sort(s.begin(), s.end());
+    return shifts;
+  };
+  const double step = 0.004;
+  for (const auto& s : shifts_along_y(relief_face(0.4, 0.5, step, ribs))) {
+    ASSERT_EQ(s.size(), 3u);          // centred, and by two periods each way: the first multiple that reaches the ends
+    EXPECT_NEAR(s[1], 0, 2 * alpha);  // the centred turn (the faces' centres are their samples' means)
+    EXPECT_NEAR(s[1] - s[0], 0.2, step);
+    EXPECT_NEAR(s[2] - s[1], 0.2, step);
+  }
+  const PointSet plain_face = relief_face(0.4, 0.5, step, [](double) { return 0.0; });
+  for (const auto& s : shifts_along_y(plain_face)) {
+    ASSERT_EQ(s.size(), 3u);  // centred, and by the overhang each way: the long face's ends onto the short face's edges
+    EXPECT_NEAR(s[1] - s[0], 0.15, 2 * alpha);
+    EXPECT_NEAR(s[2] - s[1], 0.15, 2 * alpha);
+  }
+  // Without the exemplar, the centred turns only.
+  EXPECT_EQ(composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), {}).size() + 4,
+            composed_candidates(found, r, box, alpha, Eigen::Vector3d::UnitZ(), {}, &plain_face, Similarity{}).size());
 }
 
 // Two closed cylinders of different radii side by side: the whole has no rotational symmetry, but each cylinder is a
