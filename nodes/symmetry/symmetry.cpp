@@ -263,27 +263,32 @@ std::vector<double> phase_shifts(const FaceRepeat& repeat, double gap, double wi
   return shifts;
 }
 
-// Where face B, turned onto face A centre onto centre, reaches past A's edges along A (B is the wider) and Q's support
-// holds most of A (the exemplar shows it): the turn composed with shifts along A that carry B's ends onto A, by
-// multiples of the exemplar's own repeat along A (repeat_along), so that the ends take A's relief in phase with B's
-// middle. None when the exemplar on A does not repeat.
+// The exemplar's repeat along face A as Q sees it (repeat_along, in T's units), where Q's support holds most of A (the
+// exemplar shows it); none elsewhere.
+std::optional<FaceRepeat> repeat_on_face(const Similarity& q, const std::vector<std::int32_t>& on_a,
+                                         const PlanarFace& a, const Eigen::Vector3d& along,
+                                         const FaceExemplar& exemplar, double spacing, const PointSet& target,
+                                         const KdTree& tree) {
+  if (2 * on_a.size() < a.samples.size()) return std::nullopt;
+  const auto [lo, hi] = extent_along(target.positions(), a.samples, Similarity{}, along);
+  const auto repeat = repeat_along(exemplar.points, exemplar.tree, exemplar_on_face(exemplar, q, on_a, tree, spacing),
+                                   (q.rotation * along).normalized(), spacing * q.scale, 0.5 * (hi - lo) * q.scale);
+  if (!repeat) return std::nullopt;
+  return FaceRepeat{repeat->period / q.scale};
+}
+
+// Where face B, turned onto face A centre onto centre, reaches past A's edges along A (B is the wider): the turn
+// composed with shifts along A that carry B's ends onto A, by multiples of the exemplar's own `repeat` along A, so that
+// the ends take A's relief in phase with B's middle.
 void append_shifted_turns(const Similarity& q, const std::vector<std::int32_t>& on_a, const PlanarFace& a,
-                          const PlanarFace& b, const Similarity& turn, const Eigen::Vector3d& up,
-                          const FaceExemplar& exemplar, double spacing, double reach, const PointSet& target,
+                          const PlanarFace& b, const Similarity& turn, const Eigen::Vector3d& along,
+                          const FaceRepeat& repeat, double spacing, double reach, const PointSet& target,
                           const KdTree& tree, std::vector<Mode>& out) {
-  const Eigen::Vector3d along = up.cross(a.normal).normalized();
   const auto [a_lo, a_hi] = extent_along(target.positions(), a.samples, Similarity{}, along);
   const auto [b_lo, b_hi] = extent_along(target.positions(), b.samples, turn, along);
-  const double gap_hi = b_hi - a_hi, gap_lo = a_lo - b_lo;
-  if (std::max(gap_hi, gap_lo) <= 2 * spacing || 2 * on_a.size() < a.samples.size()) return;
-  const std::vector<std::int32_t> near = exemplar_on_face(exemplar, q, on_a, tree, spacing);
-  const auto repeat = repeat_along(exemplar.points, exemplar.tree, near, (q.rotation * along).normalized(),
-                                   spacing * q.scale, 0.5 * (a_hi - a_lo) * q.scale);
-  if (!repeat) return;
-  const FaceRepeat in_target{repeat->period / q.scale};
-  for (const auto& [gap, sign] : {std::pair{gap_hi, -1.0}, std::pair{gap_lo, 1.0}}) {
+  for (const auto& [gap, sign] : {std::pair{b_hi - a_hi, -1.0}, std::pair{a_lo - b_lo, 1.0}}) {
     if (gap <= 2 * spacing) continue;
-    for (const double shift : phase_shifts(in_target, gap, a_hi - a_lo, spacing)) {
+    for (const double shift : phase_shifts(repeat, gap, a_hi - a_lo, spacing)) {
       const Similarity shifted = Similarity{Eigen::Matrix3d::Identity(), sign * shift * along, 1.0}.compose(turn);
       out.push_back(composed_mode(q, shifted, on_a, target, tree, reach));
     }
@@ -292,7 +297,7 @@ void append_shifted_turns(const Similarity& q, const std::vector<std::int32_t>& 
 
 // Q composed with the turns about `up` that carry a face B of T onto a face A that Q's support reaches (face_turn),
 // where no symmetry in `group` is that turn; only the support on A votes. With the exemplar, also the turns shifted
-// along A onto B's ends where B is the wider (append_shifted_turns).
+// along A onto B's ends where B is the wider and the exemplar repeats along A (append_shifted_turns).
 void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& support,
                        const std::vector<PlanarFace>& faces, const std::vector<Similarity>& group,
                        const Eigen::Vector3d& up, double spacing, double reach, const PointSet& target,
@@ -301,6 +306,8 @@ void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& sup
     std::vector<std::int32_t> on_a;
     std::set_intersection(support.begin(), support.end(), a.samples.begin(), a.samples.end(), std::back_inserter(on_a));
     if (on_a.empty()) continue;
+    const Eigen::Vector3d along = up.cross(a.normal).normalized();
+    std::optional<std::optional<FaceRepeat>> repeat;  // measured once per face, when a turn first needs it
     for (const PlanarFace& b : faces) {
       const auto turn = face_turn(b, a, up);  // T -> T: B onto A
       if (!turn) continue;
@@ -308,7 +315,9 @@ void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& sup
                                         [&](const Similarity& g) { return same_rotation(g, *turn, 3 * spacing); });
       if (symmetry) continue;
       out.push_back(composed_mode(q, *turn, on_a, target, tree, reach));
-      if (exemplar) append_shifted_turns(q, on_a, a, b, *turn, up, *exemplar, spacing, reach, target, tree, out);
+      if (!exemplar) continue;
+      if (!repeat) repeat = repeat_on_face(q, on_a, a, along, *exemplar, spacing, target, tree);
+      if (*repeat) append_shifted_turns(q, on_a, a, b, *turn, along, **repeat, spacing, reach, target, tree, out);
     }
   }
 }
@@ -495,7 +504,8 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
     return out;
   KdTree tree, exemplar_tree;
   tree.build(target.positions());
-  const PointSet registered = exemplar && faces ? moved_by(*exemplar, exemplar_to_source) : PointSet{};
+  const PointSet registered =
+      exemplar && exemplar->has_normals() && faces ? moved_by(*exemplar, exemplar_to_source) : PointSet{};
   if (!registered.empty()) exemplar_tree.build(registered.positions());
   const std::optional<FaceExemplar> face_exemplar =
       registered.empty() ? std::nullopt : std::optional<FaceExemplar>(FaceExemplar{registered, exemplar_tree});
