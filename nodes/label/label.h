@@ -56,7 +56,7 @@ struct LabelOptions {
   double rotation_prior = 0.5;          // eq. 9 weight of the residual rotation; >= 0
   double upright_prior = 1.0;           // weight of the tilt of +z, (1 - cos tilt) / 2: a turn about the vertical
                                         // before a flip that turns the object over; >= 0
-  double upright_unary = 0.3;           // per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and
+  double upright_unary = 0.6;           // per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and
                                         // an upright turn fit the template alike, each sample prefers the upright
                                         // one; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0

@@ -27,9 +27,8 @@ OptionTable option_table(LabelOptions& l) {
         "vertical; >= 0",
         non_negative(&l.upright_prior)},
        {"upright_unary", &l.upright_unary,
-        "per-sample unary of the tilt of the up direction, (1 - cos tilt) / 2: where a flip and an upright turn fit "
-        "the template "
-        "alike, each sample prefers the upright one; >= 0",
+        "per-sample unary of the tilt of the up direction, (1 - cos tilt) / 2, where an upright transform is "
+        "feasible: where a flip and an upright turn fit the template alike, each sample prefers the upright one; >= 0",
         non_negative(&l.upright_unary)},
        {"up", &l.up,
         "the object's up direction [x, y, z] for the upright terms; ~ = the target's axis of rotational symmetry "
