@@ -25,11 +25,8 @@ bool lands_on(const PointSet& exemplar, const KdTree& tree, const Eigen::Vector3
 // shifted position stays within their extent along `direction`; and how many those were at the shortest shift.
 std::vector<double> landing_shares(const PointSet& exemplar, const KdTree& tree, const std::vector<std::int32_t>& near,
                                    const Eigen::Vector3d& direction, double spacing, double max_shift, Index& counted) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const std::int32_t i : near) {
-    lo = std::min(lo, direction.dot(exemplar.positions().col(i)));
-    hi = std::max(hi, direction.dot(exemplar.positions().col(i)));
-  }
+  double hi = -std::numeric_limits<double>::infinity();  // the shifts go along `direction`: only this end bounds
+  for (const std::int32_t i : near) hi = std::max(hi, direction.dot(exemplar.positions().col(i)));
   const double step = 0.5 * spacing;
   std::vector<double> share;
   counted = 0;

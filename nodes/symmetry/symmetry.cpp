@@ -267,10 +267,10 @@ std::vector<double> phase_shifts(const FaceRepeat& repeat, double gap, double wi
 // exemplar shows it); none elsewhere.
 std::optional<FaceRepeat> repeat_on_face(const Similarity& q, const std::vector<std::int32_t>& on_a,
                                          const PlanarFace& a, const Eigen::Vector3d& along,
-                                         const FaceExemplar& exemplar, double spacing, const PointSet& target,
-                                         const KdTree& tree) {
+                                         std::pair<double, double> a_extent, const FaceExemplar& exemplar,
+                                         double spacing, const KdTree& tree) {
   if (2 * on_a.size() < a.samples.size()) return std::nullopt;
-  const auto [lo, hi] = extent_along(target.positions(), a.samples, Similarity{}, along);
+  const auto [lo, hi] = a_extent;
   const auto repeat = repeat_along(exemplar.points, exemplar.tree, exemplar_on_face(exemplar, q, on_a, tree, spacing),
                                    (q.rotation * along).normalized(), spacing * q.scale, 0.5 * (hi - lo) * q.scale);
   if (!repeat) return std::nullopt;
@@ -280,11 +280,11 @@ std::optional<FaceRepeat> repeat_on_face(const Similarity& q, const std::vector<
 // Where face B, turned onto face A centre onto centre, reaches past A's edges along A (B is the wider): the turn
 // composed with shifts along A that carry B's ends onto A, by multiples of the exemplar's own `repeat` along A, so that
 // the ends take A's relief in phase with B's middle.
-void append_shifted_turns(const Similarity& q, const std::vector<std::int32_t>& on_a, const PlanarFace& a,
-                          const PlanarFace& b, const Similarity& turn, const Eigen::Vector3d& along,
-                          const FaceRepeat& repeat, double spacing, double reach, const PointSet& target,
-                          const KdTree& tree, std::vector<Mode>& out) {
-  const auto [a_lo, a_hi] = extent_along(target.positions(), a.samples, Similarity{}, along);
+void append_shifted_turns(const Similarity& q, const std::vector<std::int32_t>& on_a,
+                          std::pair<double, double> a_extent, const PlanarFace& b, const Similarity& turn,
+                          const Eigen::Vector3d& along, const FaceRepeat& repeat, double spacing, double reach,
+                          const PointSet& target, const KdTree& tree, std::vector<Mode>& out) {
+  const auto [a_lo, a_hi] = a_extent;
   const auto [b_lo, b_hi] = extent_along(target.positions(), b.samples, turn, along);
   for (const auto& [gap, sign] : {std::pair{b_hi - a_hi, -1.0}, std::pair{a_lo - b_lo, 1.0}}) {
     if (gap <= 2 * spacing) continue;
@@ -307,6 +307,7 @@ void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& sup
     std::set_intersection(support.begin(), support.end(), a.samples.begin(), a.samples.end(), std::back_inserter(on_a));
     if (on_a.empty()) continue;
     const Eigen::Vector3d along = up.cross(a.normal).normalized();
+    const auto a_extent = extent_along(target.positions(), a.samples, Similarity{}, along);
     std::optional<std::optional<FaceRepeat>> repeat;  // measured once per face, when a turn first needs it
     for (const PlanarFace& b : faces) {
       const auto turn = face_turn(b, a, up);  // T -> T: B onto A
@@ -316,8 +317,9 @@ void append_face_turns(const Similarity& q, const std::vector<std::int32_t>& sup
       if (symmetry) continue;
       out.push_back(composed_mode(q, *turn, on_a, target, tree, reach));
       if (!exemplar) continue;
-      if (!repeat) repeat = repeat_on_face(q, on_a, a, along, *exemplar, spacing, target, tree);
-      if (*repeat) append_shifted_turns(q, on_a, a, b, *turn, along, **repeat, spacing, reach, target, tree, out);
+      if (!repeat) repeat = repeat_on_face(q, on_a, a, along, a_extent, *exemplar, spacing, tree);
+      if (*repeat)
+        append_shifted_turns(q, on_a, a_extent, b, *turn, along, **repeat, spacing, reach, target, tree, out);
     }
   }
 }

@@ -94,18 +94,30 @@ TEST(Label, TheRingMrfLabelsAnIdentityAnalogyAsTheIdentity) {
   }
 }
 
+// A 0.6 cube's samples with features, and its +x, +y and +z faces (the seen ones) as a source.
+struct SeenCube {
+  PointSet cube, source;
+  std::vector<std::int32_t> seen;
+  double spacing = 0;
+};
+
+SeenCube seen_cube() {
+  const SampleResult s = sample(make_box(Eigen::Vector3d(0.6, 0.6, 0.6)), {.count = 3000});
+  SeenCube c{estimate_features(s.samples, {}).points, {}, {}, s.spacing};
+  for (Index t = 0; t < c.cube.size(); ++t)
+    if (c.cube.normals().col(t).maxCoeff() > 0.9) c.seen.push_back(std::int32_t(t));
+  c.source = subset(c.cube, c.seen);
+  return c;
+}
+
 // A cube seen from the +x, +y and +z sides (the source) against the whole cube (the target), with three candidates:
 // the identity, the flip about the horizontal diagonal (1, -1, 0) (-x, -y and the bottom onto +y, +x and the top) and
 // the half turn about z (-x, -y onto +x, +y), expanded in that order. The flip alone covers all three unseen faces, so
 // label costs alone pick it for the side faces too, turning their style upside down; the per-sample upright unary makes
 // each side-face sample prefer the half turn, and leaves the flip the bottom, where nothing upright fits.
 TEST(Label, EachSampleOnAnUnseenSideFacePrefersTheHalfTurnAboutTheVerticalToAFlip) {
-  const SampleResult s = sample(make_box(Eigen::Vector3d(0.6, 0.6, 0.6)), {.count = 3000});
-  const PointSet cube = estimate_features(s.samples, {}).points;
-  std::vector<std::int32_t> seen;
-  for (Index t = 0; t < cube.size(); ++t)
-    if (cube.normals().col(t).maxCoeff() > 0.9) seen.push_back(std::int32_t(t));  // the +x, +y and +z faces
-  const PointSet source = subset(cube, seen);
+  const SeenCube c = seen_cube();
+  const PointSet &cube = c.cube, &source = c.source;
   std::vector<SupportedTransform> transforms{about(Eigen::Vector3d::UnitZ(), 0), about(Eigen::Vector3d(1, -1, 0), 180),
                                              about(Eigen::Vector3d::UnitZ(), 180)};
   for (auto& q : transforms) {
@@ -115,7 +127,7 @@ TEST(Label, EachSampleOnAnUnseenSideFacePrefersTheHalfTurnAboutTheVerticalToAFli
   auto side_and_bottom_labels = [&](double upright_unary) {
     LabelOptions o;
     o.upright_unary = upright_unary;
-    const LabelResult r = label_target(source, cube, transforms, s.spacing, o);
+    const LabelResult r = label_target(source, cube, transforms, c.spacing, o);
     std::array<Index, 3> side{}, bottom{};  // per label, on the -x / -y faces and on the bottom
     for (Index t = 0; t < cube.size(); ++t) {
       const int l = r.labels[size_t(t)];
@@ -137,19 +149,15 @@ TEST(Label, EachSampleOnAnUnseenSideFacePrefersTheHalfTurnAboutTheVerticalToAFli
 // transform is feasible, and the flip is the only one that carries the seen top there. The upright unary is then no
 // cost to it: even at a weight far above the plain copy's (self_cost 8), the bottom takes the flip, not a copy.
 TEST(Label, WhereNoUprightTransformIsFeasibleTheFlipPaysNoUprightUnary) {
-  const SampleResult s = sample(make_box(Eigen::Vector3d(0.6, 0.6, 0.6)), {.count = 3000});
-  const PointSet cube = estimate_features(s.samples, {}).points;
-  std::vector<std::int32_t> seen;
-  for (Index t = 0; t < cube.size(); ++t)
-    if (cube.normals().col(t).maxCoeff() > 0.9) seen.push_back(std::int32_t(t));  // the +x, +y and +z faces
-  const PointSet source = subset(cube, seen);
+  const SeenCube c = seen_cube();
+  const PointSet &cube = c.cube, &source = c.source;
   std::vector<SupportedTransform> transforms{about(Eigen::Vector3d::UnitZ(), 0), about(Eigen::Vector3d(1, -1, 0), 180)};
-  transforms[0].support = seen;
+  transforms[0].support = c.seen;
   for (Index t = 0; t < cube.size(); ++t)
     if (cube.normals().col(t).maxCoeff() < 0.9) transforms[1].support.push_back(std::int32_t(t));
   LabelOptions o;
   o.upright_unary = 20;
-  const LabelResult r = label_target(source, cube, transforms, s.spacing, o);
+  const LabelResult r = label_target(source, cube, transforms, c.spacing, o);
   Index bottom = 0, flipped = 0;
   for (Index t = 0; t < cube.size(); ++t)
     if (cube.normals().col(t).z() < -0.9 && cube.positions().col(t).head<2>().cwiseAbs().maxCoeff() < 0.2) {
