@@ -66,6 +66,26 @@ TEST(Correspond, KeepsAScansOwnPoseWhereItsReliefWouldPullItOffTheTemplate) {
   EXPECT_LT(rotation_angle(moved.rigid.compose(motion).rotation) * 180 / M_PI, 0.5);
 }
 
+// The ribbed box seen from above, inside the box that bounds it (a `box:` template, touching its ribs' tops): the two
+// sides it sees stand 2.2 cm (2.4 spacings) of relief inside the box, and ICP slid it 1.7 cm outwards towards them,
+// farther than two spacings. Registered between its layers, its heights span 2.7 spacings: the relief's pull, and the
+// scan keeps its own pose.
+TEST(Correspond, KeepsAScansOwnPoseWhereReliefDeeperThanTwoSpacingsWouldPullItOffTheTemplate) {
+  const PointSet box = make_ribbed_box();
+  const Eigen::Vector3d low = box.positions().rowwise().minCoeff(), high = box.positions().rowwise().maxCoeff();
+  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
+  ScanOptions above;
+  above.eye = 2.6 * (high - low).norm() * Eigen::Vector3d(0.25, -0.35, 1.0).normalized() + (low + high) / 2;
+  above.target = (low + high) / 2;
+  const PointSet scan = virtual_scan(box, above).points;
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const CorrespondResult r =
+      correspond(featured(scan, t.spacing), estimate_features(t.samples, {}).points, t.spacing, o);
+  EXPECT_TRUE(r.kept_input_pose);
+  EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+}
+
 TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
   const PointSet cyl = make_cylinder(0.3, 1.0, 128);
   const SampleResult s = sample(cyl, {.count = 5000});
