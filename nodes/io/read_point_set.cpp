@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "nodes/core/kdtree.h"
+#include "nodes/io/orient_faces.h"
 #include "nodes/io/raw_mesh.h"
 
 namespace scanfill {
@@ -178,6 +179,10 @@ LoadResult finish(const std::filesystem::path& path, io::RawMesh raw, const std:
     tris.insert(tris.end(), {std::int32_t(a), std::int32_t(b), std::int32_t(c)});
   }
 
+  if (const Index turned = orient_faces(positions, tris); turned > 0)
+    result.warnings.push_back(std::to_string(turned) + " of " + std::to_string(tris.size() / 3) +
+                              " faces were wound against their neighbours or faced into their closed part, and were "
+                              "turned");
   if (result.dropped_nonfinite > 0)
     result.warnings.push_back(std::to_string(result.dropped_nonfinite) + " of " + std::to_string(n_file) +
                               " points have non-finite coordinates and were dropped");
