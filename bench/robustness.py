@@ -48,6 +48,7 @@ COMPLETIONS = [
     ("gear", "procedural:gear", ["procedural:gear_template"]),
     ("table", "procedural:table", ["procedural:table_template"]),
     ("crate (box template)", "procedural:crate", ["procedural:crate_template"]),
+    ("beaded ring (torus template)", "procedural:beaded_ring", ["procedural:ring_template"]),
 ]
 
 # Procedural shapes found on inputs no test chose, in the sweep without the floors until every view meets them

@@ -405,6 +405,28 @@ PointSet make_disk_pair(double second_scale, bool gears) {
   return merged(transformed(disk, left), transformed(disk, right));
 }
 
+PointSet make_beaded_ring(bool beads) {
+  // s runs round the ring, t round its tube from the inside (the seam away from the beads on the outer equator).
+  constexpr double kRing = 0.3, kTube = 0.06, kBead = 0.04, kBeadHeight = 0.02;
+  constexpr int kBeads = 20;
+  MeshBuilder m;
+  m.grid(
+      [&](double s, double t) {
+        const double theta = 2 * M_PI * s, psi = M_PI + 2 * M_PI * t;
+        double r = kTube;
+        if (beads) {
+          const double step = 2 * M_PI / kBeads;
+          const double along = (theta - step * std::round(theta / step)) * (kRing + kTube);
+          const double across = std::remainder(psi, 2 * M_PI) * kTube;
+          r += kBeadHeight * std::sqrt(std::max(0.0, 1 - (along * along + across * across) / (kBead * kBead)));
+        }
+        const double rho = kRing + r * std::cos(psi);
+        return Eigen::Vector3d(rho * std::cos(theta), rho * std::sin(theta), kTube + r * std::sin(psi));
+      },
+      beads ? 400 : 96, beads ? 120 : 32, true);
+  return m.build();
+}
+
 namespace {
 
 // The share of a mesh's area held by the half of its vertices that hold least (each a third of its faces' area): 0.4
@@ -832,19 +854,20 @@ PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int 
 
 const std::vector<std::string>& shape_names() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n{"plane",     "sphere",
-                               "cylinder",  "blob",
-                               "box",       "box_l",
-                               "vase",      "vase_template",
-                               "column",    "column_template",
-                               "gear",      "gear_template",
-                               "table",     "table_template",
-                               "bench",     "bench_template",
-                               "crate",     "crate_template",
-                               "ribbed_box", "ribbed_box_template",
-                               "box8",      "column_template24",
-                               "disk_pair", "disk_pair_scaled",
-                               "gear_pair", "gear_pair_scaled"};
+    std::vector<std::string> n{"plane",       "sphere",
+                               "cylinder",    "blob",
+                               "box",         "box_l",
+                               "vase",        "vase_template",
+                               "column",      "column_template",
+                               "gear",        "gear_template",
+                               "table",       "table_template",
+                               "bench",       "bench_template",
+                               "crate",       "crate_template",
+                               "ribbed_box",  "ribbed_box_template",
+                               "beaded_ring", "ring_template",
+                               "box8",        "column_template24",
+                               "disk_pair",   "disk_pair_scaled",
+                               "gear_pair",   "gear_pair_scaled"};
     for (const std::string& castle : castle_names()) n.push_back(castle);  // castle_LAYOUT[_STYLE] (castle.h)
     return n;
   }();
@@ -878,6 +901,8 @@ PointSet make_shape(const std::string& name) {
   if (name == "crate_template") return make_crate_template();
   if (name == "ribbed_box") return make_ribbed_box();
   if (name == "ribbed_box_template") return make_ribbed_box_template();
+  if (name == "beaded_ring") return make_beaded_ring(true);
+  if (name == "ring_template") return make_beaded_ring(false);
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
   if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
   if (name == "disk_pair") return make_disk_pair(1.0, false);

@@ -63,6 +63,9 @@ PointSet make_crate_template();
 // centred on each side, above a raised plinth band; top and bottom plain. Its template is the plain 8-vertex box.
 PointSet make_ribbed_box();
 PointSet make_ribbed_box_template();
+// A ring lying on z = 0 (a torus, radius 0.3 about z, tube radius 0.06) with 20 round beads on its outer equator, and
+// with `beads` false its template: the plain torus. Its unseen underside is the seen top turned end over end.
+PointSet make_beaded_ring(bool beads);
 // Two plain disks (the gear's template) side by side, the second scaled by `second_scale`: the target of the two-body
 // transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
 PointSet make_disk_pair(double second_scale, bool gears);

@@ -816,23 +816,21 @@ OffsetFit registration_offset(const PlacedImages& exemplar, const std::vector<Si
   return {d, sys.r2, sys.pairs};
 }
 
-// The directions the exemplar's relief can pull its registration along: eigenvectors of sum h^2 n n^T over the
-// exemplar samples whose normal is within 37 degrees of (or against) the nearest target sample's, h the sample's
-// height above that sample's plane and n its normal, with eigenvalues at least 10% of the largest. A gear's teeth stand
-// out of its wall, sideways: its plain top and bottom pull nothing, and the offset stays zero along its axis (seen
-// from the front, the offset fit's flips put 5 mm there, from the edges' pairs: 2% of the largest).
-Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const PointSet& T,
-                                   const KdTree& target_tree) {
+// The exemplar's heights over the template: per exemplar sample whose normal is within 37 degrees of (or against) the
+// nearest target sample's (not off a tooth's flank, or an edge's other face), that target sample's normal n and the
+// exemplar sample's height h above its plane. With the directions the relief can pull the registration along
+// (eigenvectors of sum h^2 n n^T with eigenvalues at least 10% of the largest): a gear's teeth stand out of its wall,
+// sideways; its plain top and bottom pull nothing, and the offset stays zero along its axis (seen from the front, the
+// offset fit's flips put 5 mm there, from the edges' pairs: 2% of the largest).
+struct ExemplarRelief {
+  Eigen::Matrix3Xd normal = Eigen::Matrix3Xd(3, 0);
+  Eigen::VectorXd height;
+  Eigen::Matrix3Xd directions = Eigen::Matrix3Xd(3, 0);
+};
+
+Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& normal, const Eigen::VectorXd& height) {
   Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-  for (Index e = 0; e < ep.cols(); ++e) {
-    std::int32_t t;
-    double d2;
-    target_tree.knn(ep.col(e), 1, &t, &d2);
-    const Eigen::Vector3d n = T.normals().col(t);
-    if (std::abs(n.dot(en.col(e))) < 0.8) continue;  // off a tooth's flank, or an edge's other face
-    const double h = n.dot(ep.col(e) - T.positions().col(t));
-    M += h * h * n * n.transpose();
-  }
+  for (Index e = 0; e < height.size(); ++e) M += height(e) * height(e) * normal.col(e) * normal.col(e).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);
   Eigen::Matrix3Xd out(3, 0);
   for (Index k = 0; k < 3; ++k)
@@ -843,6 +841,49 @@ Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matr
   return out;
 }
 
+ExemplarRelief exemplar_relief(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const PointSet& T,
+                               const KdTree& target_tree) {
+  ExemplarRelief r;
+  r.normal.resize(3, ep.cols());
+  r.height.resize(ep.cols());
+  Index kept = 0;
+  for (Index e = 0; e < ep.cols(); ++e) {
+    std::int32_t t;
+    double d2;
+    target_tree.knn(ep.col(e), 1, &t, &d2);
+    const Eigen::Vector3d n = T.normals().col(t);
+    if (std::abs(n.dot(en.col(e))) < 0.8) continue;
+    r.normal.col(kept) = n;
+    r.height(kept++) = n.dot(ep.col(e) - T.positions().col(t));
+  }
+  r.normal.conservativeResize(3, kept);
+  r.height.conservativeResize(kept);
+  r.directions = relief_directions(r.normal, r.height);
+  return r;
+}
+
+// Whether offset d would take the exemplar's plain part off the template: of the exemplar samples whose template
+// normal faces along d (within 60 degrees), at least three quarters lie on the template as registered (within
+// kPlainHeight alpha) and fewer than half as many would, moved by d. A relief's pull leaves the plain part off by d; a
+// part that sits on the template says the registration is right there. A ring seen from above sits on its torus (95%
+// of those samples), and ICP had turned it about its axis: the offset fit to its flipped underside, meeting the
+// exemplar only in a thin band, found 7 mm upward (0.3% would sit on the template), which lifted the underside 1.4 cm.
+// A ribbed box's faces are half ribs (54% on its box seen from below, 1% moved), and there the offset, 1.25 alpha
+// across, lifts F 0.891 -> 0.921: kept.
+bool takes_plain_part_off(const ExemplarRelief& relief, const Eigen::Vector3d& d, double spacing) {
+  const Eigen::Vector3d along = d.normalized();
+  const double plain = kPlainHeight * spacing;
+  Index facing = 0, on = 0, on_moved = 0;
+  for (Index e = 0; e < relief.height.size(); ++e) {
+    const Eigen::Vector3d n = relief.normal.col(e);
+    if (std::abs(n.dot(along)) < 0.5) continue;
+    ++facing;
+    on += std::abs(relief.height(e)) < plain;
+    on_moved += std::abs(relief.height(e) - n.dot(d)) < plain;
+  }
+  return facing > 0 && 4 * on >= 3 * facing && 2 * on_moved < on;
+}
+
 // The registration offset the refinement applies: registration_offset's, where it is at least kLeastOffset alpha and
 // explains at least a third of the labels' misfit (truncated, against the same fit with d held at zero). The fluted
 // column seen obliquely from behind registers 6.4 mm outward, pulled towards the template's wall from its flutes'
@@ -850,13 +891,16 @@ Eigen::Matrix3Xd relief_directions(const Eigen::Matrix3Xd& ep, const Eigen::Matr
 // that label's own free fit, on its small overlap, ran off the template: F 0.959 with the 1.25 alpha this threshold
 // was, 1.000 now. Where the exemplar's detail does not repeat under the template's turns (Vase-Lion's lion heads),
 // the fit only moves misfit about: 0.98-1.84 of it, against 0.03-0.07 on the gear and 0.36-0.51 on the crate seen
-// from above and below.
+// from above and below. Nor where it would take the exemplar's plain part off the template (takes_plain_part_off): a
+// fit that meets the exemplar only in a thin band can find an offset by overlapping more of it, which the truncated
+// misfit rewards.
 Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<Similarity>& inv,
                                const std::vector<std::uint8_t>& on_template, const std::vector<Slippage>& slips,
-                               const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o) {
+                               const ExemplarRelief& relief, double spacing, const SynthesisOptions& o) {
   const double limit2 = exemplar.limit2();
-  const OffsetFit with = registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, relief);
-  if (with.d.norm() < kLeastOffset * spacing) return Eigen::Vector3d::Zero();
+  const OffsetFit with = registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, relief.directions);
+  if (with.d.norm() < kLeastOffset * spacing || takes_plain_part_off(relief, with.d, spacing))
+    return Eigen::Vector3d::Zero();
   const OffsetFit without =
       registration_offset(exemplar, inv, on_template, slips, o.refine_iterations, Eigen::Matrix3Xd(3, 0));
   const Index most = std::max(with.pairs, without.pairs);
@@ -908,10 +952,10 @@ std::vector<std::uint8_t> plain_images(const Eigen::Matrix3Xd& ep, const PointSe
 // transform. An image off the template (a blob's, 0.6 alpha off) is not plain: its shape fits it back.
 void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::vector<Index>& region_size,
             const std::vector<std::vector<std::int32_t>>& used, const std::vector<std::uint8_t>* on_template,
-            const Eigen::Matrix3Xd& relief, double spacing, const SynthesisOptions& o,
-            const std::vector<Slippage>& slips, std::vector<Similarity>& inv,
-            std::vector<std::optional<PhaseSplit>>& splits, const std::vector<TurningPart>* turning_parts,
-            const LandedShare& landed_share, bool as_given, const std::vector<std::uint8_t>& plain, Synthesis& out) {
+            const ExemplarRelief& relief, double spacing, const SynthesisOptions& o, const std::vector<Slippage>& slips,
+            std::vector<Similarity>& inv, std::vector<std::optional<PhaseSplit>>& splits,
+            const std::vector<TurningPart>* turning_parts, const LandedShare& landed_share, bool as_given,
+            const std::vector<std::uint8_t>& plain, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -1456,7 +1500,7 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   for (size_t l = 0; l < slips.size(); ++l)
     if (region_size[l] > 0 || in.covered)  // completion: every transform may fix the registration offset
       slips[l] = image_slippage(in, labelled_inverse[l], target_tree, spacing * o.reach, int(l), on_template[l]);
-  const Eigen::Matrix3Xd relief = in.covered ? relief_directions(ep, en, T, target_tree) : Eigen::Matrix3Xd(3, 0);
+  const ExemplarRelief relief = in.covered ? exemplar_relief(ep, en, T, target_tree) : ExemplarRelief{};
   const LandedShare share_landed = [&](const Similarity& inv, const std::vector<std::int32_t>& carried) {
     return landed_share(in, target_tree, spacing * o.reach, inv, carried);
   };
