@@ -449,10 +449,19 @@ SymmetryResult find_symmetries(const PointSet& shape, double spacing, const Symm
       generators.push_back(rotation_about(centre, axis, 2 * M_PI / o.continuous_steps));
       continue;
     }
+    // A turn of odd order holds about neither test above: a triangular prism's box centre is off its axis, and
+    // its turns by a third hold only about its centroid. Each order is tried about the other centre too.
+    const Eigen::Vector3d other = centre == box_centre ? centroid : box_centre;
     for (int n = o.max_order; n >= 2; --n) {
-      if (scorer.overlap(rotation_about(centre, axis, 2 * M_PI / n)) < o.min_overlap) continue;
-      result.axes.push_back({centre, axis, n});
-      generators.push_back(rotation_about(centre, axis, 2 * M_PI / n));
+      const auto holds_about = [&](const Eigen::Vector3d& c) {
+        return scorer.overlap(rotation_about(c, axis, 2 * M_PI / n)) >= o.min_overlap;
+      };
+      const std::optional<Eigen::Vector3d> at = holds_about(centre)  ? std::optional(centre)
+                                                : holds_about(other) ? std::optional(other)
+                                                                     : std::nullopt;
+      if (!at) continue;
+      result.axes.push_back({*at, axis, n});
+      generators.push_back(rotation_about(*at, axis, 2 * M_PI / n));
       break;
     }
   }

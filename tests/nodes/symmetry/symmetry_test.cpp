@@ -48,6 +48,20 @@ TEST(Symmetry, ABoxWithASquareSectionHasQuarterTurnsAboutZAndHalfTurnsAboutXAndY
   }
 }
 
+// A triangular prism (an 8-vertex template's odd cousin): its box centre is 0.1 off its axis, and neither a half turn
+// nor a small one holds about z, so the axis's centre was the box's and its turns by a third were never found (the
+// held-out triangular prism copied a third of its template plain). About its centroid they hold.
+TEST(Symmetry, ATriangularPrismTurnsByAThirdAboutItsCentroidNotItsBoxCentre) {
+  double alpha = 0;
+  const PointSet prism = samples_of(make_lowpoly_cylinder(0.4, 0.0, 0.9, 3), alpha);
+  const SymmetryResult r = find_symmetries(prism, alpha, {});
+  ASSERT_EQ(count_order(r, Eigen::Vector3d::UnitZ(), 3), 1);
+  for (const auto& a : r.axes)
+    if (std::abs(a.direction.z()) > 0.999) EXPECT_LT(a.centre.head<2>().norm(), 0.01);
+  EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitX(), 2), 1);  // the half turn about the vertex at +x
+  EXPECT_EQ(r.rotations.size(), 5u);                          // the dihedral group D3 of order 6, identity excluded
+}
+
 TEST(Symmetry, AClosedCylinderIsContinuousAboutItsAxis) {
   double alpha = 0;
   const PointSet column = samples_of(make_column_template(), alpha);
