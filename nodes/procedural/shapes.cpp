@@ -174,6 +174,10 @@ PointSet make_vase_template(int segments) {
   return vase(0, 0, segments, false);
 }
 
+PointSet make_vase_cylinder(int segments) {
+  return make_lowpoly_cylinder(0.33, 0.0, 1.0, segments);
+}
+
 PointSet transformed(const PointSet& mesh, const Similarity& q) {
   Eigen::Matrix3Xd p(3, mesh.size());
   for (Index i = 0; i < mesh.size(); ++i) p.col(i) = q.apply(mesh.positions().col(i));
@@ -424,6 +428,51 @@ PointSet make_beaded_ring(bool beads) {
         return Eigen::Vector3d(rho * std::cos(theta), rho * std::sin(theta), kTube + r * std::sin(psi));
       },
       beads ? 400 : 96, beads ? 120 : 32, true);
+  return m.build();
+}
+
+namespace {
+
+// The medallion prism's relief at x across a side (centred) and height z: a disk of radius 0.09 at mid-height, 3 cm
+// high, and bands 2.5 cm high at z = 0.15 and 0.75, 3 cm clear of the side's edges.
+double medallion_relief(double x, double side, double z) {
+  const double medallion = 0.03 * ramp((0.09 - std::hypot(x, z - 0.45)) / 0.015);
+  const double clear = ramp((side / 2 - 0.03 - std::abs(x)) / 0.01);
+  double bands = 0;
+  for (const double at : {0.15, 0.75}) bands = std::max(bands, 0.025 * ramp((0.02 - std::abs(z - at)) / 0.008));
+  return std::max(medallion, bands * clear);
+}
+
+}  // namespace
+
+PointSet make_medallion_prism(bool relief) {
+  constexpr int kSides = 3;
+  constexpr double kRadius = 0.4, kHeight = 0.9;
+  if (!relief) return make_lowpoly_cylinder(kRadius, 0.0, kHeight, kSides);
+  const double apothem = kRadius * std::cos(M_PI / kSides), side = 2 * kRadius * std::sin(M_PI / kSides);
+  const auto corner = [&](int i) {
+    const double phi = 2 * M_PI * i / kSides;
+    return Eigen::Vector3d(kRadius * std::cos(phi), kRadius * std::sin(phi), 0);
+  };
+  MeshBuilder m;
+  for (int k = 0; k < kSides; ++k) {
+    const double a = (k + 0.5) * 2 * M_PI / kSides;
+    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0), e(-std::sin(a), std::cos(a), 0);
+    m.grid(
+        [&](double s, double t) -> Eigen::Vector3d {
+          const double x = (s - 0.5) * side, z = t * kHeight;
+          return n * (apothem + medallion_relief(x, side, z)) + e * x + Eigen::Vector3d(0, 0, z);
+        },
+        90, 160, false);
+    for (const bool top : {true, false}) {  // the caps as fans of sectors, each from its edge in to the centre
+      const Eigen::Vector3d p0 = corner(top ? k : k + 1), p1 = corner(top ? k + 1 : k);
+      m.grid(
+          [&](double s, double t) -> Eigen::Vector3d {
+            return (1 - t) * ((1 - s) * p0 + s * p1) + Eigen::Vector3d(0, 0, top ? kHeight : 0);
+          },
+          24, 12, false);
+    }
+  }
   return m.build();
 }
 
@@ -854,20 +903,25 @@ PointSet make_revolution(const PointSet& model, const RevolutionAxis& axis, int 
 
 const std::vector<std::string>& shape_names() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n{"plane",       "sphere",
-                               "cylinder",    "blob",
-                               "box",         "box_l",
-                               "vase",        "vase_template",
-                               "column",      "column_template",
-                               "gear",        "gear_template",
-                               "table",       "table_template",
-                               "bench",       "bench_template",
-                               "crate",       "crate_template",
-                               "ribbed_box",  "ribbed_box_template",
-                               "beaded_ring", "ring_template",
-                               "box8",        "column_template24",
-                               "disk_pair",   "disk_pair_scaled",
-                               "gear_pair",   "gear_pair_scaled"};
+    // A shape beside its template where it has one.
+    // clang-format off
+    std::vector<std::string> n{"plane",           "sphere",
+                               "cylinder",        "blob",
+                               "box",             "box_l",
+                               "vase",            "vase_template",
+                               "vase_cylinder",
+                               "column",          "column_template",
+                               "gear",            "gear_template",
+                               "table",           "table_template",
+                               "bench",           "bench_template",
+                               "crate",           "crate_template",
+                               "ribbed_box",      "ribbed_box_template",
+                               "beaded_ring",     "ring_template",
+                               "medallion_prism", "prism_template",
+                               "box8",            "column_template24",
+                               "disk_pair",       "disk_pair_scaled",
+                               "gear_pair",       "gear_pair_scaled"};
+    // clang-format on
     for (const std::string& castle : castle_names()) n.push_back(castle);  // castle_LAYOUT[_STYLE] (castle.h)
     return n;
   }();
@@ -889,6 +943,7 @@ PointSet make_shape(const std::string& name) {
   }
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();
+  if (name == "vase_cylinder") return make_vase_cylinder();
   if (name == "column") return make_column();
   if (name == "column_template") return make_column_template();
   if (name == "gear") return make_gear();
@@ -903,6 +958,8 @@ PointSet make_shape(const std::string& name) {
   if (name == "ribbed_box_template") return make_ribbed_box_template();
   if (name == "beaded_ring") return make_beaded_ring(true);
   if (name == "ring_template") return make_beaded_ring(false);
+  if (name == "medallion_prism") return make_medallion_prism(true);
+  if (name == "prism_template") return make_medallion_prism(false);
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
   if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
   if (name == "disk_pair") return make_disk_pair(1.0, false);

@@ -24,6 +24,9 @@ PointSet make_cylinder(double radius, double height, int segments);
 PointSet make_vase(int flutes = 12, int beads = 16, int segments = 192);
 // The vase's structural template: its body of revolution without flutes or beads.
 PointSet make_vase_template(int segments = 192);
+// The vase's plainest template: a closed cylinder of its height standing on z = 0, radius 0.33 (the vase's profile
+// runs 0.28-0.40 about it), drawn with `segments` sides.
+PointSet make_vase_cylinder(int segments = 128);
 
 // Closed axis-aligned box with the given side lengths, centred at the origin, outward winding; `segments` quads per
 // unit length along each side (at least 1 per side).
@@ -66,6 +69,10 @@ PointSet make_ribbed_box_template();
 // A ring lying on z = 0 (a torus, radius 0.3 about z, tube radius 0.06) with 20 round beads on its outer equator, and
 // with `beads` false its template: the plain torus. Its unseen underside is the seen top turned end over end.
 PointSet make_beaded_ring(bool beads);
+// A triangular prism standing on z = 0 (circumradius 0.4, height 0.9, a vertex at +x) with a round medallion and two
+// bands on each side, and with `relief` false its template, the 6-vertex prism: its turns by a third (about its
+// centroid, not its bounding box's centre) carry a side onto the others.
+PointSet make_medallion_prism(bool relief);
 // Two plain disks (the gear's template) side by side, the second scaled by `second_scale`: the target of the two-body
 // transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
 PointSet make_disk_pair(double second_scale, bool gears);
