@@ -56,8 +56,11 @@ TEST(Symmetry, ATriangularPrismTurnsByAThirdAboutItsCentroidNotItsBoxCentre) {
   const PointSet prism = samples_of(make_lowpoly_cylinder(0.4, 0.0, 0.9, 3), alpha);
   const SymmetryResult r = find_symmetries(prism, alpha, {});
   ASSERT_EQ(count_order(r, Eigen::Vector3d::UnitZ(), 3), 1);
-  for (const auto& a : r.axes)
-    if (std::abs(a.direction.z()) > 0.999) EXPECT_LT(a.centre.head<2>().norm(), 0.01);
+  for (const auto& a : r.axes) {
+    if (std::abs(a.direction.z()) > 0.999) {
+      EXPECT_LT(a.centre.head<2>().norm(), 0.01);
+    }
+  }
   EXPECT_EQ(count_order(r, Eigen::Vector3d::UnitX(), 2), 1);  // the half turn about the vertex at +x
   EXPECT_EQ(r.rotations.size(), 5u);                          // the dihedral group D3 of order 6, identity excluded
 }
