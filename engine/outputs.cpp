@@ -194,6 +194,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},
       {"rigid_rms", m.rigid_rms},
       {"kept_input_pose", m.kept_input_pose},
+      {"laid_on_axis", m.laid_on_axis},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};

@@ -102,6 +102,29 @@ TEST(Correspond, KeepsAScansOwnPoseWhereItsReliefWouldTurnItOffTheTemplate) {
   EXPECT_EQ(rotation_angle(r.rigid.rotation), 0.0);
 }
 
+// The vase seen from its front, in a plain cylinder of its height (radius 0.33; the vase's 0.28-0.40): ICP fits the
+// scan's bulge to the cylinder by tilting it about 10 degrees, its axis 11 cm off the cylinder's at its foot, and
+// every turned image stood askew. Both are bodies of revolution, so the scan's own axis (where its normals meet) is
+// laid on the cylinder's: upright and centred, as scanned. A box template is not round, and ICP's pose stands.
+TEST(Correspond, LaysAScansOwnAxisOfRevolutionOnARoundTemplates) {
+  ScanOptions front;
+  front.eye = Eigen::Vector3d(0, -3, 0.9);
+  front.target = Eigen::Vector3d(0, 0, 0.5);
+  const PointSet scan = virtual_scan(make_vase(), front).points;
+  const SampleResult t = sample(make_vase_cylinder(), {.count = 20000});
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const PointSet exemplar = featured(scan, t.spacing);
+  const CorrespondResult r = correspond(exemplar, estimate_features(t.samples, {}).points, t.spacing, o);
+  ASSERT_TRUE(r.laid_on_axis);
+  EXPECT_LT(std::acos(std::min(1.0, (r.rigid.rotation * Eigen::Vector3d::UnitZ()).z())) * 180 / M_PI, 1.0);
+  const Eigen::Vector3d foot = r.rigid.apply(Eigen::Vector3d::Zero());
+  EXPECT_LT(foot.head<2>().norm(), 2 * t.spacing);
+  const SampleResult b =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.8, 0.8, 1.0), Eigen::Vector3d(0, 0, 0.5)), {.count = 20000});
+  EXPECT_FALSE(correspond(exemplar, estimate_features(b.samples, {}).points, b.spacing, o).laid_on_axis);
+}
+
 TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
   const PointSet cyl = make_cylinder(0.3, 1.0, 128);
   const SampleResult s = sample(cyl, {.count = 5000});
