@@ -358,6 +358,19 @@ double ramp(double x) {
   return std::clamp(x, 0.0, 1.0);
 }
 
+// A flat side of a prism standing on z = 0, facing `angle` about z at `out` from the axis, `width` across and `height`
+// high, raised along its normal by relief(x, z) (x across the side from its centre): an ns by nt grid.
+void add_relief_side(MeshBuilder& m, double angle, double out, double width, double height,
+                     const std::function<double(double, double)>& relief, int ns, int nt) {
+  const Eigen::Vector3d n(std::cos(angle), std::sin(angle), 0), e(-std::sin(angle), std::cos(angle), 0);
+  m.grid(
+      [&](double s, double t) -> Eigen::Vector3d {
+        const double x = (s - 0.5) * width, z = t * height;
+        return n * (out + relief(x, z)) + e * x + Eigen::Vector3d(0, 0, z);
+      },
+      ns, nt, false);
+}
+
 // The ribbed box's relief at x across a side of `width` (centred) and height z: ribs 0.036 wide every 0.1 from z =
 // 0.12 to 0.55, a plinth band from 0.02 to 0.08, both 0.02 clear of the side's edges.
 double ribbed_relief(double x, double width, double z) {
@@ -374,14 +387,10 @@ PointSet make_ribbed_box() {
   MeshBuilder m;
   const double length = 0.8, depth = 0.5, hgt = 0.6;
   for (int k = 0; k < 4; ++k) {
-    const double a = k * M_PI / 2, out = k % 2 == 0 ? length / 2 : depth / 2, width = k % 2 == 0 ? depth : length;
-    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0), e(-std::sin(a), std::cos(a), 0);
-    m.grid(
-        [&](double s, double t) {
-          const double x = (s - 0.5) * width, z = t * hgt;
-          return Eigen::Vector3d(n * (out + ribbed_relief(x, width, z)) + e * x + Eigen::Vector3d(0, 0, z));
-        },
-        int(width * 250), 150, false);
+    const double out = k % 2 == 0 ? length / 2 : depth / 2, width = k % 2 == 0 ? depth : length;
+    add_relief_side(
+        m, k * M_PI / 2, out, width, hgt, [&](double x, double z) { return ribbed_relief(x, width, z); },
+        int(width * 250), 150);
   }
   const auto cap = [&](double z, bool top) {
     m.grid(
@@ -456,14 +465,9 @@ PointSet make_medallion_prism(bool relief) {
   };
   MeshBuilder m;
   for (int k = 0; k < kSides; ++k) {
-    const double a = (k + 0.5) * 2 * M_PI / kSides;
-    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0), e(-std::sin(a), std::cos(a), 0);
-    m.grid(
-        [&](double s, double t) -> Eigen::Vector3d {
-          const double x = (s - 0.5) * side, z = t * kHeight;
-          return n * (apothem + medallion_relief(x, side, z)) + e * x + Eigen::Vector3d(0, 0, z);
-        },
-        90, 160, false);
+    add_relief_side(
+        m, (k + 0.5) * 2 * M_PI / kSides, apothem, side, kHeight,
+        [&](double x, double z) { return medallion_relief(x, side, z); }, 90, 160);
     for (const bool top : {true, false}) {  // the caps as fans of sectors, each from its edge in to the centre
       const Eigen::Vector3d p0 = corner(top ? k : k + 1), p1 = corner(top ? k + 1 : k);
       m.grid(
