@@ -442,11 +442,15 @@ constexpr double kAxisMisfitSlack = 0.01;
 // either is not round, or where ICP already lays the axes together.
 std::optional<Similarity> onto_template_axis(const PointSet& exemplar, const PointSet& source, const Similarity& pose,
                                              double spacing) {
-  const SurfaceElements template_surface = surface_elements(source), scan_surface = surface_elements(exemplar);
-  if (template_surface.size() < 16 || scan_surface.size() < 16) return std::nullopt;
-  const RevolutionAxis axis = axis_from_normals(template_surface), own = axis_from_normals(scan_surface);
+  const SurfaceElements template_surface = surface_elements(source);
+  if (template_surface.size() < 16) return std::nullopt;
+  const RevolutionAxis axis = axis_from_normals(template_surface);
+  if (normal_axis_misfit(template_surface, axis) > kRoundTemplate) return std::nullopt;  // most templates stop here
+  const SurfaceElements scan_surface = surface_elements(exemplar);
+  if (scan_surface.size() < 16) return std::nullopt;
+  const RevolutionAxis own = axis_from_normals(scan_surface);
   const double own_misfit = normal_axis_misfit(scan_surface, own);
-  if (normal_axis_misfit(template_surface, axis) > kRoundTemplate || own_misfit > kRoundScan) return std::nullopt;
+  if (own_misfit > kRoundScan) return std::nullopt;
   // Where the scan's normals meet the template's axis, as ICP lays it, nearly as well as their own, ICP's pose is a
   // pose about the axis: a gear's face (parallel normals meet any axis along them) and the vase in its own body.
   const RevolutionAxis template_axis_on_scan{pose.inverse().apply(axis.centre),
