@@ -407,14 +407,16 @@ TEST(BeadedRing, SeenFromAboveItsUndersideLiesOnTheGround) {
 }
 
 // The vase in the plainest template a user has: a closed cylinder of its height (radius 0.33; the vase runs 0.28-0.40
-// about it). ICP fitted the scan's bulge to the cylinder by tilting it about 10 degrees, 11 cm off the axis at its foot,
-// and the turned images stood askew on the unseen side (F 0.594, unseen-detail 0.42 from the front); the scan's own
-// axis of revolution is now laid on the cylinder's (correspond.cpp, onto_template_axis). The cylinder's caps and the
-// wall below the vase's foot are copied, off the vase, so F stays under the procedural floors.
+// about it). ICP fitted the scan's bulge to the cylinder by tilting it about 10 degrees, 11 cm off the axis at its
+// foot, and the turned images stood askew on the unseen side (F 0.594, unseen-detail 0.42 from the front); the scan's
+// own axis of revolution is now laid on the cylinder's (correspond.cpp, onto_template_axis), and, as it spans the
+// cylinder's height, at its height: ICP's stood it 3.4 cm up, and the cylinder's wall was copied below the vase's foot
+// (F 0.892, now 0.912). The cylinder's caps are copied over the vase's open ends, so F stays under the procedural
+// floors.
 TEST(VaseInACylinder, SeenFromTheFrontItsBackGetsFlutesAndBeads) {
   const SweepRun run = complete_from("vase", "vase_cylinder", Eigen::Vector3d(0, -1, 0.2));
   EXPECT_TRUE(run.report["correspondence"]["laid_on_axis"].get<bool>());
-  expect_scores(run, "vase in a plain cylinder from the front", 0.85, 0.95);
+  expect_scores(run, "vase in a plain cylinder from the front", 0.9, 0.95);
 }
 
 }  // namespace

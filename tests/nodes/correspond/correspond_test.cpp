@@ -105,7 +105,8 @@ TEST(Correspond, KeepsAScansOwnPoseWhereItsReliefWouldTurnItOffTheTemplate) {
 // The vase seen from its front, in a plain cylinder of its height (radius 0.33; the vase's 0.28-0.40): ICP fits the
 // scan's bulge to the cylinder by tilting it about 10 degrees, its axis 11 cm off the cylinder's at its foot, and
 // every turned image stood askew. Both are bodies of revolution, so the scan's own axis (where its normals meet) is
-// laid on the cylinder's: upright and centred, as scanned. A box template is not round, and ICP's pose stands.
+// laid on the cylinder's: upright and centred, as scanned, and (spanning its height) foot on its base; ICP stood it
+// 3.4 cm up. A box template is not round, and ICP's pose stands.
 TEST(Correspond, LaysAScansOwnAxisOfRevolutionOnARoundTemplates) {
   ScanOptions front;
   front.eye = Eigen::Vector3d(0, -3, 0.9);
@@ -120,6 +121,7 @@ TEST(Correspond, LaysAScansOwnAxisOfRevolutionOnARoundTemplates) {
   EXPECT_LT(std::acos(std::min(1.0, (r.rigid.rotation * Eigen::Vector3d::UnitZ()).z())) * 180 / M_PI, 1.0);
   const Eigen::Vector3d foot = r.rigid.apply(Eigen::Vector3d::Zero());
   EXPECT_LT(foot.head<2>().norm(), 2 * t.spacing);
+  EXPECT_LT(std::abs(foot.z()), 0.5 * t.spacing) << "the scan spans the cylinder's height: its foot on its base";
   const SampleResult b =
       sample(make_lowpoly_box(Eigen::Vector3d(0.8, 0.8, 1.0), Eigen::Vector3d(0, 0, 0.5)), {.count = 20000});
   EXPECT_FALSE(correspond(exemplar, estimate_features(b.samples, {}).points, b.spacing, o).laid_on_axis);
