@@ -117,4 +117,9 @@ RevolutionAxis axis_from_normals(const SurfaceElements& surface) {
   return best;
 }
 
+RevolutionAxis axis_along(const SurfaceElements& surface, const Eigen::Vector3d& direction) {
+  if (surface.size() < 16) throw InputError("an axis from normals needs at least 16 surface elements");
+  return reweighted_axis(surface, direction);
+}
+
 }  // namespace scanfill

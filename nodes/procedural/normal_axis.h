@@ -25,4 +25,8 @@ double normal_axis_misfit(const SurfaceElements& surface, const RevolutionAxis& 
 // meet every axis along them: the result is one such axis, with misfit 0.
 RevolutionAxis axis_from_normals(const SurfaceElements& surface);
 
+// The axis along `direction` (non-zero) that the surface's normals meet best: axis_from_normals' centre for a fixed
+// direction. Needs at least 16 elements (else throws InputError).
+RevolutionAxis axis_along(const SurfaceElements& surface, const Eigen::Vector3d& direction);
+
 }  // namespace scanfill

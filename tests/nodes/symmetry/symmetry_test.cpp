@@ -76,6 +76,27 @@ TEST(Symmetry, AClosedCylinderIsContinuousAboutItsAxis) {
   EXPECT_GE(r.rotations.size(), 11u);
 }
 
+// The vase's body of revolution with a knob on one side (a small sphere at its widest, on +x), as a template made from
+// a model with a handle is: the bounding box's centre and the centroid lie off the axis towards the knob, and a turn
+// about either carries that error twice over. The axis is still continuous, and its centre is the one the body's
+// normals meet: the half turn about it fits the body to a few hundredths of an alpha.
+TEST(Symmetry, AContinuousAxisTurnsAboutTheCentreTheBodysNormalsMeetNotTheBoxCentre) {
+  Similarity knob_place;
+  knob_place.scale = 0.1;
+  const PointSet mesh = make_vase_template();
+  const BoundingBox box = bounding_box(mesh.positions());
+  knob_place.translation = Eigen::Vector3d(box.max.x(), 0, (box.min.z() + box.max.z()) / 2);
+  const PointSet knobbed = merged(mesh, transformed(make_shape("sphere"), knob_place));
+  double alpha = 0;
+  const PointSet body = samples_of(knobbed, alpha);
+  const SymmetryResult r = find_symmetries(body, alpha, {});
+  ASSERT_TRUE(r.continuous);
+  EXPECT_LT(r.continuous->centre.head<2>().norm(), 0.05 * alpha);
+  const BoundingBox sampled = bounding_box(body.positions());
+  const Eigen::Vector3d box_centre = (sampled.min + sampled.max) / 2;
+  EXPECT_GT(box_centre.head<2>().norm(), 0.3 * alpha) << "the knob moves the box's centre off the axis";
+}
+
 TEST(Symmetry, ABlobHasNone) {
   double alpha = 0;
   const PointSet blob = samples_of(make_blob(), alpha);
