@@ -26,6 +26,10 @@
 //    vertical alike (a box's unseen sides), the label cost alone lets one flip cover the sides and the bottom
 //    together, turning their style upside down; per sample, the upright turn wins where it fits. Where nothing
 //    upright reaches (a box's bottom, a gear's unseen face), the flip competes with the plain copy unburdened.
+//  - each also carries quarter_unary times an upright turn's angle from the nearest quarter or half turn, over 45
+//    degrees, at a sample where an upright quarter or half turn is feasible: on a body of revolution every turn fits
+//    the template alike, and turns of 30 to 150 degrees took the back of a vase seen from the front, carrying the
+//    front's knob beside the back's.
 //  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees (the paper's: every
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
@@ -59,6 +63,8 @@ struct LabelOptions {
   double upright_unary = 0.6;           // per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and
                                         // an upright turn fit the template alike, each sample prefers the upright
                                         // one; >= 0
+  double quarter_unary = 0.3;           // per-sample unary of an upright turn's angle from the nearest quarter or
+                                        // half turn, over 45 degrees, where such a turn is feasible; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
                                         // sets it from the target's symmetry axis when the config does not)

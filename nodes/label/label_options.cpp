@@ -30,6 +30,12 @@ OptionTable option_table(LabelOptions& l) {
         "per-sample unary of the tilt of the up direction, (1 - cos tilt) / 2, where an upright transform is "
         "feasible: where a flip and an upright turn fit the template alike, each sample prefers the upright one; >= 0",
         non_negative(&l.upright_unary)},
+       {"quarter_unary", &l.quarter_unary,
+        "per-sample unary of an upright turn's angle from the nearest quarter or half turn, over 45 degrees, where "
+        "such "
+        "a turn is feasible: where turns of 150 and 180 degrees fit the template alike, each sample prefers the half "
+        "turn; >= 0",
+        non_negative(&l.quarter_unary)},
        {"up", &l.up,
         "the object's up direction [x, y, z] for the upright terms; ~ = the target's axis of rotational symmetry "
         "(continuous, else the one of highest order when it is unique), else +z",
@@ -67,6 +73,7 @@ void use_paper_parameters(LabelOptions& l) {
   l.mrf_radius = 5.0;
   l.mrf_min_normal_dot = 0.0;
   l.upright_unary = 0.0;
+  l.quarter_unary = 0.0;
 }
 
 }  // namespace scanfill

@@ -168,5 +168,47 @@ TEST(Label, WhereNoUprightTransformIsFeasibleTheFlipPaysNoUprightUnary) {
   EXPECT_GT(flipped, 95 * bottom / 100);
 }
 
+// A closed cylinder (z axis) seen over 165 degrees of its side (from -70 to 95 degrees about z) as the source, against
+// the whole cylinder, with the turns about z every 30 degrees as candidates, as composed_candidates offers them for a
+// body of revolution. Each turn is supported where it carries a sample onto the seen arc. Every turn fits the template
+// alike, so label costs and the pairwise term alone leave the back to whichever turns the expansion reached first
+// (turns of 30, 60, 120 and 150 degrees). The quarter unary lets each sample prefer the quarter and half turns, which
+// carry a relief facing front (a vase's knob) onto the back's middle, not 30 degrees beside it.
+TEST(Label, OnABodyOfRevolutionEachSamplePrefersQuarterAndHalfTurnsToOtherTurns) {
+  const SampleResult s = sample(make_shape("cylinder"), {.count = 4000});
+  const PointSet cylinder = estimate_features(s.samples, {}).points;
+  const auto angle_of = [](const Eigen::Vector3d& p) {  // degrees about z from +x, in (-180, 180]
+    return std::atan2(p.y(), p.x()) * 180 / M_PI;
+  };
+  const auto seen = [&](const Eigen::Vector3d& p) { return angle_of(p) > -70 && angle_of(p) < 95; };
+  std::vector<std::int32_t> front;
+  for (Index t = 0; t < cylinder.size(); ++t)
+    if (seen(cylinder.positions().col(t))) front.push_back(std::int32_t(t));
+  const PointSet source = subset(cylinder, front);
+  std::vector<SupportedTransform> transforms;
+  for (int k = 0; k < 12; ++k) {
+    SupportedTransform q = about(Eigen::Vector3d::UnitZ(), 30.0 * k);
+    q.support.clear();
+    for (Index t = 0; t < cylinder.size(); ++t)
+      if (seen(q.transform.apply(cylinder.positions().col(t)))) q.support.push_back(std::int32_t(t));
+    transforms.push_back(q);
+  }
+  const auto quarter_share = [&](double quarter_unary) {  // on the back's middle, within 45 degrees of 192.5
+    LabelOptions o;
+    o.quarter_unary = quarter_unary;
+    const LabelResult r = label_target(source, cylinder, transforms, s.spacing, o);
+    Index middle = 0, quarter = 0;
+    for (Index t = 0; t < cylinder.size(); ++t) {
+      const double a = angle_of(cylinder.positions().col(t));
+      if (std::abs(cylinder.normals()(2, t)) > 0.1 || std::abs(std::remainder(a - 192.5, 360.0)) > 45) continue;
+      ++middle;
+      quarter += r.labels[size_t(t)] < 12 && r.labels[size_t(t)] % 3 == 0;
+    }
+    return double(quarter) / double(std::max<Index>(middle, 1));
+  };
+  EXPECT_GT(quarter_share(LabelOptions{}.quarter_unary), 0.95);
+  EXPECT_LT(quarter_share(0.0), 0.8) << "without it, other turns take part of the back's middle";
+}
+
 }  // namespace
 }  // namespace scanfill
