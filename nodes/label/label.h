@@ -29,7 +29,7 @@
 //  - each also carries quarter_unary times an upright turn's angle from the nearest quarter or half turn, over 45
 //    degrees, at a sample where an upright quarter or half turn is feasible: on a body of revolution every turn fits
 //    the template alike, and turns of 30 to 150 degrees took the back of a vase seen from the front, carrying the
-//    front's knob beside the back's.
+//    front's knob beside the back's. (The engine sets it to 0 where the scan repeats about the target's axis.)
 //  - MRF edges join each sample to its mrf_k nearest neighbours with normals within 60 degrees (the paper's: every
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its

@@ -435,6 +435,21 @@ std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eige
   return out;
 }
 
+bool repeats_about(const PointSet& exemplar, const Similarity& to_template, const Eigen::Vector3d& point,
+                   const Eigen::Vector3d& direction, double spacing, double limit) {
+  if (!exemplar.has_normals()) return false;
+  Eigen::Matrix3Xd ep(3, exemplar.size()), en(3, exemplar.size());
+  for (Index e = 0; e < exemplar.size(); ++e) {
+    ep.col(e) = to_template.apply(exemplar.positions().col(e));
+    en.col(e) = to_template.apply_normal(exemplar.normals().col(e));
+  }
+  TurningPart part;
+  part.point = point;
+  part.direction = direction;
+  const std::optional<AxialRepeats> r = axial_repeats(ep, en, part, spacing, limit);
+  return r && !r->continuous && (r->order[0] > 0 || r->order[1] > 0);
+}
+
 TurningPart part_holding(const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                          const Eigen::Matrix3Xd& positions, const std::vector<std::int32_t>& samples, double margin) {
   TurningPart part{point, direction.normalized(), 0, std::numeric_limits<double>::infinity(),

@@ -18,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "nodes/core/point_set.h"
 #include "nodes/core/similarity.h"
 
 namespace scanfill {
@@ -60,6 +61,13 @@ struct AxialRepeats {
 // Deterministic.
 std::optional<AxialRepeats> axial_repeats(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en,
                                           const TurningPart& part, double spacing, double limit);
+
+// Whether the exemplar, carried into the template's frame by `to_template`, repeats about the axis through `point`
+// along `direction` (unit): axial_repeats finds a band of some order n, and the exemplar is no body of revolution
+// about it. Where it does, synthesize turns every image to its repeats, whatever turn the labelling chose. False for an
+// exemplar without normals.
+bool repeats_about(const PointSet& exemplar, const Similarity& to_template, const Eigen::Vector3d& point,
+                   const Eigen::Vector3d& direction, double spacing, double limit);
 
 // The turn by `angle` (radians, right-handed about the direction) about the axis.
 Similarity turn_about(const AxialRepeats& r, double angle);
