@@ -388,6 +388,19 @@ Eigen::Vector3d up_direction(const LabelOptions& label, const SymmetryResult& ta
   return Eigen::Vector3d::UnitZ();
 }
 
+// Whether the scan repeats about the target's axis of revolution (completion). Its quarter and half turns are the
+// analogy's guess for a scan that does not (offered by support, preferred by label.quarter_unary); where it repeats,
+// synthesize turns every image to its repeats, and the preference only moves regions between turns that are alike: the
+// 24-gon column seen from
+// (-0.61, -0.43, 0.67), 16 flutes, lost 0.987 -> 0.933 to it.
+bool scan_repeats_about_axis(const Votes& v, double limit) {
+  const auto& axis = v.symmetries->target_symmetry.continuous;
+  const Correspondence* scan = v.symmetries->correspondence.get();
+  return axis && scan &&
+         repeats_about(scan->exemplar->features.points, scan->map.rigid, axis->centre, axis->direction, v.spacing(),
+                       limit);
+}
+
 }  // namespace
 
 SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
@@ -413,7 +426,14 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     const std::vector<Mode> composed =
         composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,
                             scan ? &scan->exemplar->features.points : nullptr, scan ? scan->map.rigid : Similarity{});
-    s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options);
+    // Where T's turns all explain the scan alike, voting finds turns at random angles: the quarter turns eq. 9
+    // prefers are offered too, unless the scan's own repeats phase every image (synthesize).
+    s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());
+    const std::vector<Mode> quarters =
+        scan && !s->scan_repeats ? axis_quarter_turns(voted.transforms, symmetry, T) : std::vector<Mode>{};
+    s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options, quarters);
+    if (!quarters.empty())
+      node_logger("support")->info("the quarter and half turns about the target's axis offered as candidates");
     s->voted = Index(voted.transforms.size());
     s->composed = Index(composed.size());
     node_logger("support")->info(
@@ -424,22 +444,6 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
   });
 }
 
-namespace {
-
-// Whether the scan repeats about the target's axis of revolution (completion). Its quarter and half turns are the
-// analogy's guess for a scan that does not (label.quarter_unary); where it repeats, synthesize turns every image to
-// its repeats, and the preference only moves regions between turns that are alike: the 24-gon column seen from
-// (-0.61, -0.43, 0.67), 16 flutes, lost 0.987 -> 0.933 to it.
-bool scan_repeats_about_axis(const Votes& v, double limit) {
-  const auto& axis = v.symmetries->target_symmetry.continuous;
-  const Correspondence* scan = v.symmetries->correspondence.get();
-  return axis && scan &&
-         repeats_about(scan->exemplar->features.points, scan->map.rigid, axis->centre, axis->direction, v.spacing(),
-                       limit);
-}
-
-}  // namespace
-
 LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
   return run_node(state, "label", "", [&](const ProgressFn&) {
     const Votes& v = *in->modes->votes;
@@ -447,8 +451,7 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
     a->supports = in;
     LabelOptions options = state.config.label;
     options.up = in->up;
-    if (options.quarter_unary > 0 &&
-        scan_repeats_about_axis(v, state.config.synthesize.refine_distance * v.spacing())) {
+    if (options.quarter_unary > 0 && in->scan_repeats) {
       options.quarter_unary = 0;
       node_logger("label")->info("the scan repeats about the target's axis: no preference for quarter turns");
     }

@@ -92,6 +92,7 @@ struct Supports {
   SupportResult support;
   Index voted = 0;                                // transforms grown from the modes
   Index composed = 0;                             // candidates composed with the target's symmetries
+  bool scan_repeats = false;                      // completion: the scan repeats about the target's axis
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else +z (label uses it too)
 };
 using SupportsPtr = std::shared_ptr<const Supports>;

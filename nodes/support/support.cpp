@@ -122,12 +122,17 @@ std::vector<SupportedTransform> grow_all(const PointSet& source, const PointSet&
   return found;
 }
 
-// Strongest first; drop the small and the duplicates.
+bool stronger(const SupportedTransform& a, const SupportedTransform& b) {
+  return a.support.size() > b.support.size() || (a.support.size() == b.support.size() && a.rms < b.rms);
+}
+
+// Strongest first; drop the small and the duplicates. The first `first` of `found` are considered before the rest, each
+// part strongest first; the kept ones are returned strongest first.
 SupportResult select_transforms(std::vector<SupportedTransform> found, const PointSet& target, double spacing,
-                                const SupportOptions& o) {
-  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
-    return a.support.size() > b.support.size() || (a.support.size() == b.support.size() && a.rms < b.rms);
-  });
+                                const SupportOptions& o, size_t first = 0) {
+  first = std::min(first, found.size());
+  std::stable_sort(found.begin(), found.begin() + std::ptrdiff_t(first), stronger);
+  std::stable_sort(found.begin() + std::ptrdiff_t(first), found.end(), stronger);
   SupportResult result;
   const double cos_dup = std::cos(o.duplicate_angle_deg * M_PI / 180);
   for (auto& st : found) {
@@ -156,6 +161,7 @@ SupportResult select_transforms(std::vector<SupportedTransform> found, const Poi
     }
     if (!duplicate) result.transforms.push_back(std::move(st));
   }
+  std::stable_sort(result.transforms.begin(), result.transforms.end(), stronger);
   return result;
 }
 
@@ -169,9 +175,9 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
 
 SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
                               const std::vector<Mode>& extra, double spacing, double accuracy,
-                              const SupportOptions& options) {
+                              const SupportOptions& options, const std::vector<Mode>& preferred) {
   check_options(options);
-  if (extra.empty()) return found;
+  if (extra.empty() && preferred.empty()) return found;
   // Compositions are exact (a refined transform and a symmetry of T): grown, not refined, since ICP would slide them
   // along a symmetric template's free motions, off the axis rotations they were made to be.
   SupportOptions grow_only = options;
@@ -181,13 +187,15 @@ SupportResult extend_supports(const PointSet& source, const PointSet& target, co
   std::vector<std::uint8_t> explained(size_t(target.size()), 0);
   for (const auto& st : found.transforms)
     for (const auto t : st.support) explained[size_t(t)] = 1;
-  std::vector<SupportedTransform> all = found.transforms;
+  std::vector<SupportedTransform> all = grow_all(source, target, preferred, spacing, accuracy, grow_only);
+  const size_t first = all.size();
+  all.insert(all.end(), found.transforms.begin(), found.transforms.end());
   for (auto& st : grow_all(source, target, extra, spacing, accuracy, grow_only)) {
     const auto unexplained =
         std::count_if(st.support.begin(), st.support.end(), [&](std::int32_t t) { return explained[size_t(t)] == 0; });
     if (Index(unexplained) >= options.min_support) all.push_back(std::move(st));
   }
-  return select_transforms(std::move(all), target, spacing, options);
+  return select_transforms(std::move(all), target, spacing, options, first);
 }
 
 }  // namespace scanfill

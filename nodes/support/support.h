@@ -52,9 +52,11 @@ SupportResult grow_supports(const PointSet& source, const PointSet& target, cons
 // that explains fewer than min_support samples no found transform explains is not kept (the extras are for coverage:
 // where voting already explains the target, its own transforms are kept as they are). The extras
 // are grown at `distance` alpha without ICP: they are exact compositions, and ICP would slide them along the free
-// motions of a symmetric target.
+// motions of a symmetric target. `preferred` modes are grown alike but kept whatever they add, and are selected before
+// the found and extra ones, so that a near duplicate of one gives way to it (the exact quarter turns eq. 9 prefers,
+// symmetry.h's axis_quarter_turns, over a voted turn a degree or two off).
 SupportResult extend_supports(const PointSet& source, const PointSet& target, const SupportResult& found,
                               const std::vector<Mode>& extra, double spacing, double accuracy,
-                              const SupportOptions& options);
+                              const SupportOptions& options, const std::vector<Mode>& preferred = {});
 
 }  // namespace scanfill

@@ -581,4 +581,23 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
   return out;
 }
 
+std::vector<Mode> axis_quarter_turns(const std::vector<SupportedTransform>& found,
+                                     const SymmetryResult& target_symmetry, const PointSet& target) {
+  std::vector<Mode> out;
+  const auto& axis = target_symmetry.continuous;
+  if (!axis || found.empty()) return out;
+  // The strongest transform whose family holds the identity (within 10 degrees): not a flip end over end.
+  const auto q = std::find_if(found.begin(), found.end(), [&](const SupportedTransform& st) {
+    return rotation_angle(nearest_identity_member(st.transform, *axis).rotation) < 10 * M_PI / 180;
+  });
+  if (q == found.end()) return out;
+  const Similarity base = nearest_identity_member(q->transform, *axis);
+  KdTree tree;
+  tree.build(target.positions());
+  for (int k = 0; k < 4; ++k)
+    out.push_back(
+        composed_mode(base, rotation_about(axis->centre, axis->direction, k * M_PI / 2), q->support, target, tree));
+  return out;
+}
+
 }  // namespace scanfill

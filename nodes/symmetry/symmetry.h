@@ -140,4 +140,12 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
                                       const PointSet* exemplar = nullptr,
                                       const Similarity& exemplar_to_source = Similarity{});
 
+// The turns eq. 9 prefers about T's continuous axis, for a scan that T's turns all explain alike: the family member
+// nearest the identity of the strongest found transform whose family holds it (not a flip end over end), composed with
+// the turns by 0, 90, 180 and 270 degrees about the axis. Voting finds some turn of the family at random angles, and
+// the coverage rule (extend_supports) keeps no composition where those already explain T; these are kept as preferred.
+// Empty without a continuous axis.
+std::vector<Mode> axis_quarter_turns(const std::vector<SupportedTransform>& found,
+                                     const SymmetryResult& target_symmetry, const PointSet& target);
+
 }  // namespace scanfill

@@ -219,5 +219,27 @@ TEST(Support, ExtendKeepsOnlyExtrasThatExplainSomethingNew) {
   EXPECT_EQ(inside(more.transforms[1].support, kS, kS + kMoved), Index(more.transforms[1].support.size()));
 }
 
+// A preferred mode is kept though it explains nothing new, and a near duplicate among the found transforms gives way
+// to it: the identity found a degree off (within duplicate_angle_deg) yields to the exact identity preferred.
+TEST(Support, ExtendKeepsPreferredModesBeforeTheirNearDuplicates) {
+  const Fixture& f = fixture();
+  const Similarity off{rot(1.0 * M_PI / 180, Eigen::Vector3d::UnitZ()), Eigen::Vector3d::Zero(), 1};
+  SupportOptions o;
+  o.icp_iterations = 0;  // keep the found transform a degree off
+  const SupportResult found = grow_supports(f.source, f.target, {mode(off, 0, kS)}, f.alpha, f.alpha, o);
+  ASSERT_EQ(found.transforms.size(), 1u);
+  const SupportResult kept =
+      extend_supports(f.source, f.target, found, {}, f.alpha, f.alpha, o, {mode(Similarity{}, 0, kS)});
+  ASSERT_EQ(kept.transforms.size(), 1u);
+  EXPECT_TRUE(near(kept.transforms[0].transform, Similarity{}, 1e-9, 1e-9));
+  EXPECT_GE(Index(kept.transforms[0].support.size()), kS * 99 / 100);
+  // Beside the moved part's transform, still strongest first.
+  const SupportResult both = extend_supports(f.source, f.target, found, {mode(kG.inverse(), kS, kS + kMoved)}, f.alpha,
+                                             f.alpha, o, {mode(Similarity{}, 0, kS)});
+  ASSERT_EQ(both.transforms.size(), 2u);
+  EXPECT_TRUE(near(both.transforms[0].transform, Similarity{}, 1e-9, 1e-9));
+  EXPECT_TRUE(near(both.transforms[1].transform, kG.inverse(), 1e-6, 1e-9));
+}
+
 }  // namespace
 }  // namespace scanfill

@@ -199,6 +199,37 @@ TEST(Symmetry, ComposedCandidatesCarryAFoundTransformToEveryQuarterTurn) {
   EXPECT_GE(faces_reached, 3);  // +y, -x and +x: the sides a corner view cannot see
 }
 
+// On a body of revolution voting finds turns at any angle, and a flip end over end may be the strongest of them. The
+// quarter turns are built on the strongest transform whose family holds the identity: the column's turn by 37 degrees
+// (second, after a flip), snapped to the identity and composed with turns by 0, 90, 180 and 270 degrees about the axis.
+TEST(Symmetry, AxisQuarterTurnsAreTheIdentitysFamilyMembersAtQuarterTurnsNotAFlips) {
+  double alpha = 0;
+  const PointSet column = samples_of(make_column_template(), alpha);
+  const SymmetryResult r = find_symmetries(column, alpha, {});
+  ASSERT_TRUE(r.continuous);
+  const Eigen::Vector3d mid = r.continuous->centre;
+  const auto turn = [&](double deg, const Eigen::Vector3d& axis) {
+    return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, axis).toRotationMatrix(),
+                      mid - Eigen::AngleAxisd(deg * M_PI / 180, axis).toRotationMatrix() * mid, 1};
+  };
+  std::vector<SupportedTransform> found(2);
+  found[0].transform = turn(180, Eigen::Vector3d::UnitX());  // a flip: its family holds no identity
+  found[1].transform = turn(37, Eigen::Vector3d::UnitZ());
+  for (Index t = 0; t < column.size(); ++t) found[1].support.push_back(std::int32_t(t));
+  found[0].support = found[1].support;
+  const std::vector<Mode> modes = axis_quarter_turns(found, r, column);
+  ASSERT_EQ(modes.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) {
+    const Similarity& q = modes[k].transform;
+    EXPECT_NEAR(rotation_angle(q.rotation) * 180 / M_PI, k == 3 ? 90.0 : 90.0 * double(k), 1e-6);
+    EXPECT_GT(std::abs(rotation_axis(q.rotation).z()), 0.999) << "a turn about the axis, not a flip";
+    EXPECT_LT((q.apply(mid) - mid).norm(), 1e-9) << "about the axis' own centre";
+    EXPECT_GT(modes[k].votes, column.size() / 3);  // distinct samples nearest the turned ones: about half
+  }
+  EXPECT_TRUE(axis_quarter_turns({found[0]}, r, column).empty());
+  EXPECT_TRUE(axis_quarter_turns(found, SymmetryResult{}, column).empty());
+}
+
 // A box that is not square (0.8 by 0.5 in plan) has no quarter turn, yet its short sides are to take its long side's
 // relief: the identity, seen on the long -y face, composed with the quarter turns that carry each short face onto it,
 // centre onto centre.
