@@ -621,18 +621,20 @@ class RepeatsByAxis {
   std::vector<Entry> found_;
 };
 
-// Turns region l's image (inv) to the exemplar's repeats r, band by band (turn_to_repeat, no farther than the phase
-// search goes): the used samples of two bands that turn differently become two parts, and inv becomes the turn of
-// the band with more of them. Returns the per-band images when they differ, else none (inv turned as a whole, or
-// unchanged when no band's turn applies).
+// Turns region l's image (inv) to the exemplar's repeats r, band by band (turn_to_repeat, to the nearest repeat however
+// far: the phase search reaches search_distance only, and an image it leaves between repeats of a low order puts
+// detail beside detail, a barrel's medallion 27 degrees off its place): the used samples of two bands that turn
+// differently become two parts, and inv becomes the turn of the band with more of them. Returns the per-band images
+// when they differ, else none (inv turned as a whole, or unchanged when no band's turn applies).
+constexpr double kAnyPhase = std::numeric_limits<double>::infinity();
+
 std::optional<std::array<Similarity, 2>> turn_to_repeats(const AxialRepeats& r, const Eigen::Matrix3Xd& ep,
                                                          const std::vector<std::int32_t>& used, double spacing,
-                                                         const SynthesisOptions& o, Similarity& inv,
-                                                         std::optional<PhaseSplit>& split) {
+                                                         Similarity& inv, std::optional<PhaseSplit>& split) {
   std::array<Similarity, 2> band_inv{inv, inv};
   bool any = false;
   for (size_t b = 0; b < 2; ++b)
-    if (const auto c = turn_to_repeat(r, r.order[b], inv, o.search_distance * spacing, spacing)) {
+    if (const auto c = turn_to_repeat(r, r.order[b], inv, kAnyPhase, spacing)) {
       band_inv[b] = c->compose(inv);
       any = true;
     }
@@ -649,9 +651,9 @@ std::optional<std::array<Similarity, 2>> turn_to_repeats(const AxialRepeats& r, 
 }
 
 // Whether the exemplar's repeats r fix the phase of the image q: q turns about their axis (turn_to_repeat applies with
-// either band's order).
-bool turns_about_repeats(const AxialRepeats& r, const Similarity& q, double most, double spacing) {
-  return turn_to_repeat(r, r.order[0], q, most, spacing) || turn_to_repeat(r, r.order[1], q, most, spacing);
+// either band's order, at any phase).
+bool turns_about_repeats(const AxialRepeats& r, const Similarity& q, double spacing) {
+  return turn_to_repeat(r, r.order[0], q, kAnyPhase, spacing) || turn_to_repeat(r, r.order[1], q, kAnyPhase, spacing);
 }
 
 // For an image q that turns the repeats' axis end over end (a half turn about a line across it: a gear's top face to
@@ -1031,13 +1033,12 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       // The refinement can turn an image about a point off the axis to fit a small overlap (the gear from the front:
       // 122.5 to 111.4 degrees, its axis moved 7.6 mm, teeth 3.4 degrees off on the far side); the repeats then fix
       // the labelled transform's phase instead (126 degrees).
-      const double most = o.search_distance * spacing;
-      if (r && !turns_about_repeats(*r, inv[best], most, spacing) && turns_about_repeats(*r, labelled, most, spacing)) {
+      if (r && !turns_about_repeats(*r, inv[best], spacing) && turns_about_repeats(*r, labelled, spacing)) {
         inv[best] = labelled;
         splits[best].reset();
       }
     }
-    const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, o, inv[best], splits[best]) : std::nullopt;
+    const auto band_inv = r ? turn_to_repeats(*r, ep, used[best], spacing, inv[best], splits[best]) : std::nullopt;
     if (splits[best]) {
       const auto& inv2 = splits[best]->inv;
       out.second_phase_deg[best] = rotation_angle(inv2[1].rotation * inv2[0].rotation.transpose()) * 180 / M_PI;
