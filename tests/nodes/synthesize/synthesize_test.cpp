@@ -206,15 +206,20 @@ TEST(SynthesizeRefinement, TurnsAFlutedColumnsImageBackOntoItsFlutesAboutTheAxis
   EXPECT_LT(syn.refinement_shift[0], 0.2 * alpha);  // a turn about the axis itself (x = y = 0)
 }
 
+// The samples of `all` (with normals) whose position passes `keep`.
+PointSet samples_where(const PointSet& all, const std::function<bool(const Eigen::Vector3d&)>& keep) {
+  std::vector<Index> kept;
+  for (Index i = 0; i < all.size(); ++i)
+    if (keep(all.positions().col(i))) kept.push_back(i);
+  PointSet out(all.positions()(Eigen::all, kept));
+  out.set_normals(all.normals()(Eigen::all, kept));
+  return out;
+}
+
 // Half a vase (y < 0: a one-sided scan), from 2 n random points over the whole vase, with normals.
 PointSet half_vase(Index n) {
   const PointSet all = random_surface_points(make_vase(), 2 * n, 7);
-  std::vector<Index> half;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(1, i) < 0) half.push_back(i);
-  PointSet out(all.positions()(Eigen::all, half));
-  out.set_normals(all.normals()(Eigen::all, half));
-  return out;
+  return samples_where(all, [](const Eigen::Vector3d& p) { return p(1) < 0; });
 }
 
 // The synthesised points of `label` (any label: -2) that are detail (more than half an alpha off the plain body), by
@@ -347,11 +352,7 @@ TEST(SynthesizeRepeats, FillsTheHiddenHalvesOfAVasesBeadsWithItsOwnTurns) {
     const double angle = std::atan2(p.y(), p.x());
     return p.z() < 0.06 && p.head<2>().norm() > 0.31 && angle < -M_PI / 2;
   };
-  std::vector<Index> seen;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(1, i) < 0 && !hidden(all.positions().col(i))) seen.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, seen));
-  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const PointSet exemplar = samples_where(all, [&](const Eigen::Vector3d& p) { return p(1) < 0 && !hidden(p); });
   const auto turn = [](double deg) {
     return Similarity{Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
                       Eigen::Vector3d::Zero(), 1};
@@ -446,11 +447,8 @@ TEST(SynthesizeGaps, CopiesTheTargetBetweenAnExemplarsStripes) {
   const Index n = 8000;
   const double alpha = std::sqrt(0.64 * surface_area(square.positions(), square.faces()) / double(n));
   const PointSet all = random_surface_points(square, n, 7), target = random_surface_points(square, n, 11);
-  std::vector<Index> striped;
-  for (Index i = 0; i < all.size(); ++i)
-    if (std::fmod(all.positions()(0, i) + 0.5, 10 * alpha) < 5 * alpha) striped.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, striped));
-  exemplar.set_normals(all.normals()(Eigen::all, striped));
+  const PointSet exemplar =
+      samples_where(all, [&](const Eigen::Vector3d& p) { return std::fmod(p(0) + 0.5, 10 * alpha) < 5 * alpha; });
   const Synthesis syn = refine_one_transform(exemplar, target, Similarity{}, alpha);
   KdTree output;
   output.build(syn.points.positions());
@@ -506,11 +504,7 @@ TEST(SynthesizeMirror, ReplacesAHalfTurnsImageByTheExemplarsMirrorImage) {
   const Index n = 16000;
   const double alpha = std::sqrt(0.64 * surface_area(body.positions(), body.faces()) / double(n));
   const PointSet all = random_surface_points(body, 2 * n, 7);
-  std::vector<Index> seen;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(0, i) > -0.12) seen.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, seen));
-  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const PointSet exemplar = samples_where(all, [&](const Eigen::Vector3d& p) { return p(0) > -0.12; });
   const PointSet target = random_surface_points(plain, n, 11);
   const Similarity half_turn{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
                              Eigen::Vector3d::Zero(), 1};
@@ -563,11 +557,7 @@ TEST(SynthesizeRefinement, TurnsAnImageToTheExemplarsQuarterTurnRepeatsHoweverFa
   const Index n = 16000;
   const double alpha = std::sqrt(0.64 * surface_area(body.positions(), body.faces()) / double(n));
   const PointSet all = random_surface_points(body, 2 * n, 7);
-  std::vector<Index> seen;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(1, i) < 0) seen.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, seen));
-  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const PointSet exemplar = samples_where(all, [&](const Eigen::Vector3d& p) { return p(1) < 0; });
   const Similarity turn{Eigen::AngleAxisd(121 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
                         Eigen::Vector3d::Zero(), 1};
   const Synthesis syn = refine_transforms(
@@ -611,11 +601,7 @@ TEST(SynthesizeRelief, AHalfTurnDoesNotCarryAReliefThatDoesNotRepeat) {
   const Index n = 16000;
   const double alpha = std::sqrt(0.64 * surface_area(spouted.positions(), spouted.faces()) / double(n));
   const PointSet all = random_surface_points(spouted, 2 * n, 7);
-  std::vector<Index> seen;
-  for (Index i = 0; i < all.size(); ++i)
-    if (all.positions()(1, i) < 0.12) seen.push_back(i);
-  PointSet exemplar(all.positions()(Eigen::all, seen));
-  exemplar.set_normals(all.normals()(Eigen::all, seen));
+  const PointSet exemplar = samples_where(all, [&](const Eigen::Vector3d& p) { return p(1) < 0.12; });
   const Similarity half_turn{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
                              Eigen::Vector3d::Zero(), 1};
   SynthesisOptions no_mirror;
