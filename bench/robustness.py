@@ -54,10 +54,13 @@ COMPLETIONS = [
 
 # Procedural shapes found on inputs no test chose, in the sweep without the floors until every view meets them
 # (README, "Seen at stop 41"): a box that is not square, its short sides reached by turns between its faces; the vase
-# in a plain cylinder (stop 45), whose copied caps and foot lie off the vase.
+# in a plain cylinder (stop 45), whose copied caps and foot lie off the vase; a barrel with a medallion at each quarter
+# turn, completed with its own body of revolution (stop 49), whose medallions only quarter turns carry to its back.
 BEYOND_FLOORS = [
     ("ribbed box, not square (box template)", "procedural:ribbed_box", ["procedural:ribbed_box_template"]),
     ("vase (plain cylinder template)", "procedural:vase", ["procedural:vase_cylinder"]),
+    ("medallion barrel (revolution: template)", "procedural:medallion_barrel",
+     ["revolution:procedural:medallion_barrel"]),
 ]
 
 # Real models drawn y-up, as many meshes are (shape, file under ../shared/data/models, template kind): completed with

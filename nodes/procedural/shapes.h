@@ -73,6 +73,10 @@ PointSet make_beaded_ring(bool beads);
 // bands on each side, and with `relief` false its template, the 6-vertex prism: its turns by a third (about its
 // centroid, not its bounding box's centre) carry a side onto the others.
 PointSet make_medallion_prism(bool relief);
+// A barrel standing on z = 0 (height 1, radius 0.4 at its ends and 0.5 at mid-height) with a round medallion at each
+// quarter turn, and with `relief` false its template, the plain barrel. Its scan does not repeat about its axis from
+// below, where the medallions' upper halves go unseen; only quarter turns carry one medallion onto another.
+PointSet make_medallion_barrel(bool relief);
 // Two plain disks (the gear's template) side by side, the second scaled by `second_scale`: the target of the two-body
 // transfers (S = one disk, E = the gear); with `gears`, the two gears: the styled target those transfers should give.
 PointSet make_disk_pair(double second_scale, bool gears);
