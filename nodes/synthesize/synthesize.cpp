@@ -384,14 +384,24 @@ double truncated_misfit(double sum, Index pairs, Index most, double limit2) {
   return sum + double(most - pairs) * limit2;
 }
 
+// The slippable motion that turns the region about an axis (rotation rather than translation), if it has one.
+const Eigen::Matrix<double, 6, 1>* turn_about_axis(const Slippage& slip) {
+  for (const auto& v : slip.motions)
+    if (v.head<3>().norm() * 2 > v.tail<3>().norm()) return &v;
+  return nullptr;
+}
+
 // Whether q turns the axis of the region's slippable turn end over end (a flip: a body's bottom onto its top).
 bool flips_turn_axis(const Similarity& q, const Slippage& slip) {
-  for (const auto& v : slip.motions)
-    if (v.head<3>().norm() * 2 > v.tail<3>().norm()) {
-      const Eigen::Vector3d w = v.head<3>().normalized();
-      return w.dot(q.rotation * w) < -0.5;
-    }
-  return false;
+  const auto* v = turn_about_axis(slip);
+  if (!v) return false;
+  const Eigen::Vector3d w = v->head<3>().normalized();
+  return w.dot(q.rotation * w) < -0.5;
+}
+
+// Whether the template fits the exemplar: fewer than half its samples stand off it (`raised`; empty in a transfer).
+bool template_fits_exemplar(const std::vector<std::uint8_t>& raised) {
+  return 2 * std::count(raised.begin(), raised.end(), std::uint8_t(1)) < std::ssize(raised) || raised.empty();
 }
 
 // The correction c (applied after q) that fits the image's detail to the placed images best of three: the phase along
@@ -428,11 +438,15 @@ bool flips_turn_axis(const Similarity& q, const Slippage& slip) {
 // axis keep their free fits: the Vase-Lion's template, its body of revolution, fits its head loosely, and the fits
 // that carry a turn's head 10-13 alpha off it (landing 18-69%) are what its unseen side gains (mean unseen-detail
 // 0.425, 0.372 without them).
-// Nor is a free fit that moves a region more than an alpha taken where under a twentieth of the phase's overlap is
-// raised off the template (`slides_on_plain`; `raised` empty in a transfer): creases and caps pin plain on plain only
-// loosely, and a slide along a side fits a neighbour's small misfit. The triangular prism seen from low in front: its
-// side turned by 120 degrees overlapped the images before it only there (3% raised), and slid 2.2 alpha along the far
-// side for a 3% lower misfit, its medallion off the model's (F 0.923, 0.988 kept).
+// Nor is a flip pinned where the template does not fit the exemplar (half of it stands off the template): a plain
+// cylinder round a vase lies off it (97-99% of the scan), and the free fits that carry its flipped parts 13-25 alpha
+// onto the placed images, off the cylinder, are better evidence than the template (from below, F 0.626 pinned, 0.654
+// free). The medallion barrel's scan stands 9% off its body of revolution, the Vase-Lion's 83-90% off its. Nor is a
+// free fit that moves a region more than an alpha taken where under a twentieth of the phase's overlap is raised off
+// the template (`slides_on_plain`; `raised` empty in a transfer): creases and caps pin plain on plain only loosely, and
+// a slide along a side fits a neighbour's small misfit. The triangular prism seen from low in front: its side turned by
+// 120 degrees overlapped the images before it only there (3% raised), and slid 2.2 alpha along the far side for a 3%
+// lower misfit, its medallion off the model's (F 0.923, 0.988 kept).
 Similarity refinement(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
                       const SynthesisOptions& o, bool truncated, bool as_given,
                       const std::function<double(const Similarity&)>& landed, const std::vector<std::uint8_t>& raised) {
@@ -446,7 +460,7 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
     most = std::max(most, misfit[i].second);
   }
   const bool leaves_template = [&] {
-    const bool flip = flips_turn_axis(q, slip);
+    const bool flip = flips_turn_axis(q, slip) && template_fits_exemplar(raised);
     if (truncated || (!slip.motions.empty() && !flip)) return false;
     const bool pinned = as_given || flip;
     if (region_move(fits[2].compose(fits[1].inverse()), slip) <= (pinned ? kAsGivenSlide : kFarSlide) * spacing)
@@ -477,13 +491,6 @@ struct PhaseSplit {
   std::vector<std::uint8_t> part;  // per used exemplar sample: 0 below the cut, 1 above
   std::array<Similarity, 2> inv;   // per part
 };
-
-// The slippable motion that turns the region about an axis (rotation rather than translation), if it has one.
-const Eigen::Matrix<double, 6, 1>* turn_about_axis(const Slippage& slip) {
-  for (const auto& v : slip.motions)
-    if (v.head<3>().norm() * 2 > v.tail<3>().norm()) return &v;
-  return nullptr;
-}
 
 // Squared point-to-plane misfit and overlap of samples (in a fixed order) at each phase step k of a turn, as prefix
 // sums over the samples: any run of samples [a, b) scores at any step in O(1). Steps are k - zero half-alpha steps.
