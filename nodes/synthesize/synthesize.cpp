@@ -1242,6 +1242,14 @@ std::vector<std::uint8_t> overlaid_targets(const std::vector<Eigen::Vector3d>& p
   return over;
 }
 
+// How far x stands out of the target T along the normal of its nearest sample (negative: under it).
+double height_over_template(const PointSet& T, const KdTree& target_tree, const Eigen::Vector3d& x) {
+  std::int32_t j;
+  double d2;
+  target_tree.knn(x, 1, &j, &d2);
+  return T.normals().col(j).dot(x - T.positions().col(j));
+}
+
 // Completion, when the scan repeats about no axis (no repeats found): per exemplar sample, whether it stands more than
 // `height` out of the template, along the nearest template sample's normal (moved by the registration `offset`; sunk
 // relief, a pillar's panels behind its box, does not count). Such relief is the scan's own, not a style that
@@ -1254,11 +1262,7 @@ std::vector<std::uint8_t> unrepeated_relief(const SynthesisInputs& in, const Eig
   if (!in.covered || !out.repeats.empty()) return {};
   std::vector<std::uint8_t> off(size_t(ep.cols()), 0);
   tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
-    std::int32_t j;
-    double d2;
-    const Eigen::Vector3d x = ep.col(e) - offset;
-    target_tree.knn(x, 1, &j, &d2);
-    off[size_t(e)] = in.target.normals().col(j).dot(x - in.target.positions().col(j)) > height;
+    off[size_t(e)] = height_over_template(in.target, target_tree, ep.col(e) - offset) > height;
   });
   return off;
 }
@@ -1276,11 +1280,7 @@ std::vector<std::uint8_t> banded_relief(const SynthesisInputs& in, const Eigen::
   const AxialRepeats& r = out.repeats[0];
   std::vector<std::uint8_t> band(size_t(ep.cols()), 0);
   tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
-    std::int32_t j;
-    double d2;
-    const Eigen::Vector3d x = ep.col(e) - offset;
-    target_tree.knn(x, 1, &j, &d2);
-    const bool relief = in.target.normals().col(j).dot(x - in.target.positions().col(j)) > height;
+    const bool relief = height_over_template(in.target, target_tree, ep.col(e) - offset) > height;
     if (relief && r.part.contains(ep.col(e))) band[size_t(e)] = std::uint8_t(1 + band_of(r, ep.col(e)));
   });
   return band;
