@@ -401,7 +401,7 @@ bool flips_turn_axis(const Similarity& q, const Slippage& slip) {
 
 // Whether the template fits the exemplar: fewer than half its samples stand off it (`raised`; empty in a transfer).
 bool template_fits_exemplar(const std::vector<std::uint8_t>& raised) {
-  return 2 * std::count(raised.begin(), raised.end(), std::uint8_t(1)) < std::ssize(raised) || raised.empty();
+  return raised.empty() || 2 * std::count(raised.begin(), raised.end(), std::uint8_t(1)) < std::ssize(raised);
 }
 
 // The correction c (applied after q) that fits the image's detail to the placed images best of three: the phase along
@@ -1290,14 +1290,14 @@ std::vector<std::uint8_t> banded_relief(const SynthesisInputs& in, const Eigen::
 // image does not turn (unrepeated_relief), and a band's relief only into that band (banded_relief).
 struct CarriedRelief {
   std::vector<std::uint8_t> unrepeated, banded;
-  const AxialRepeats* repeats = nullptr;  // the one whose bands `banded` holds
+  std::optional<AxialRepeats> bands;  // the repeats whose bands `banded` holds (a copy: out.repeats may grow)
 
   bool carries(const Similarity& inv, const Eigen::Matrix3Xd& ep, Index e) const {
     constexpr double kTurn = M_PI / 180;
     if (!unrepeated.empty() && unrepeated[size_t(e)] && rotation_angle(inv.rotation) > kTurn) return false;
     if (banded.empty() || !banded[size_t(e)]) return true;
     const Eigen::Vector3d x = inv.apply(ep.col(e));
-    return !repeats->part.contains(x) || band_of(*repeats, x) + 1 == banded[size_t(e)];
+    return !bands->part.contains(x) || band_of(*bands, x) + 1 == banded[size_t(e)];
   }
 };
 
@@ -1305,8 +1305,8 @@ CarriedRelief carried_relief(const SynthesisInputs& in, const Eigen::Matrix3Xd& 
                              const KdTree& target_tree, const Synthesis& out, double spacing) {
   constexpr double kBandRelief = 1.0;
   CarriedRelief c{unrepeated_relief(in, ep, offset, target_tree, out, kUnrepeatedRelief * spacing),
-                  banded_relief(in, ep, offset, target_tree, out, kBandRelief * spacing), nullptr};
-  if (!c.banded.empty()) c.repeats = &out.repeats[0];
+                  banded_relief(in, ep, offset, target_tree, out, kBandRelief * spacing), std::nullopt};
+  if (!c.banded.empty()) c.bands = out.repeats[0];
   return c;
 }
 
