@@ -603,6 +603,12 @@ std::optional<PhaseSplit> phase_split(const PlacedImages& placed, const Eigen::M
   return out;
 }
 
+// The distance of x from the axis through `point` along the unit `direction`.
+double distance_from_axis(const Eigen::Vector3d& x, const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d r = x - point;
+  return (r - direction * direction.dot(r)).norm();
+}
+
 // The axis region `slip` turns about, moved by the exemplar's registration offset d (the images turn about it). Where
 // it runs along one of the template's own axes (`parts`, within kSameAxisTilt, and inside that part's radius), that
 // axis: a region's slippage places the axis only as well as its shape pins it. A fluted column's plain bottom cap,
@@ -616,13 +622,12 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> turning_axis(const Sl
   const Eigen::Matrix<double, 6, 1>* v = turn_about_axis(slip);
   if (v == nullptr) return std::nullopt;
   const Eigen::Vector3d w = v->head<3>(), tau = v->tail<3>() * slip.radius;
-  std::pair axis{Eigen::Vector3d(slip.centre + w.cross(tau) / w.squaredNorm() + d), Eigen::Vector3d(w.normalized())};
+  const Eigen::Vector3d point = slip.centre + w.cross(tau) / w.squaredNorm() + d, a = w.normalized();
+  std::pair axis{point, a};
   if (!parts) return axis;
   double nearest = std::numeric_limits<double>::infinity();
-  const Eigen::Vector3d point = axis.first, a = axis.second;
   for (const TurningPart& part : *parts) {
-    const Eigen::Vector3d x = point - (part.point + d);
-    const double distance = (x - part.direction * part.direction.dot(x)).norm();
+    const double distance = distance_from_axis(point, part.point + d, part.direction);
     if (std::abs(part.direction.dot(a)) >= std::cos(kSameAxisTilt) && distance <= part.radius && distance < nearest) {
       nearest = distance;
       axis = {part.point + d, part.direction};
@@ -641,9 +646,8 @@ class RepeatsByAxis {
   // The repeats about part's axis; an axis found before (with any extent) is not searched again.
   const AxialRepeats* about(const TurningPart& part) {
     for (const Entry& e : found_) {
-      const Eigen::Vector3d x = part.point - e.point;
       if (std::abs(e.direction.dot(part.direction)) >= std::cos(M_PI / 180) &&
-          (x - e.direction * e.direction.dot(x)).norm() <= 0.5 * spacing_)
+          distance_from_axis(part.point, e.point, e.direction) <= 0.5 * spacing_)
         return e.repeats ? &*e.repeats : nullptr;
     }
     found_.push_back({part.point, part.direction, axial_repeats(ep_, en_, part, spacing_, limit_)});
