@@ -34,7 +34,10 @@
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
 //    ring to the ring's majority label.
-// Labels are sparse: label l is feasible only within `dilation` alpha of its support.
+// Labels are sparse: label l is feasible only within `dilation` alpha of its support, and, with upright_unary > 0,
+// not on the caps (samples facing within 30 degrees of up or down) where it tips the object onto its side (turns up
+// 60 degrees or more towards the horizontal, short of a flip): the style of the scan's sides is not laid on a lid or a
+// floor the scan did not see.
 #pragma once
 
 #include <optional>

@@ -168,6 +168,39 @@ TEST(Label, WhereNoUprightTransformIsFeasibleTheFlipPaysNoUprightUnary) {
   EXPECT_GT(flipped, 95 * bottom / 100);
 }
 
+// The cube seen on its +x side only, with the quarter turn about y that tips that side onto the bottom (the cube on its
+// side) and the quarter turn about z that carries it onto the +y side, each supported on the face it fills. The tip
+// is not feasible on the bottom, which stays a plain copy; it is on a side, and with the upright terms off
+// (upright_unary 0, the paper's preset) on the bottom too.
+TEST(Label, ATransformThatTipsTheObjectOverIsNotFeasibleOnItsCaps) {
+  const SeenCube c = seen_cube();
+  std::vector<std::int32_t> plus_x;
+  for (Index t = 0; t < c.cube.size(); ++t)
+    if (c.cube.normals().col(t).x() > 0.9) plus_x.push_back(std::int32_t(t));
+  const PointSet source = subset(c.cube, plus_x);
+  std::vector<SupportedTransform> transforms{about(Eigen::Vector3d::UnitY(), -90),
+                                             about(Eigen::Vector3d::UnitZ(), -90)};
+  for (Index t = 0; t < c.cube.size(); ++t) {
+    if (c.cube.normals().col(t).z() < -0.9) transforms[0].support.push_back(std::int32_t(t));
+    if (c.cube.normals().col(t).y() > 0.9) transforms[1].support.push_back(std::int32_t(t));
+  }
+  const auto tipped_on_bottom = [&](double upright_unary) {
+    LabelOptions o;
+    o.upright_unary = upright_unary;
+    const LabelResult r = label_target(source, c.cube, transforms, c.spacing, o);
+    Index bottom = 0, tipped = 0, turned = 0, plus_y = 0;
+    for (Index t = 0; t < c.cube.size(); ++t) {
+      const int l = r.labels[size_t(t)];
+      if (c.cube.normals().col(t).z() < -0.9) ++bottom, tipped += l == 0;
+      if (c.cube.normals().col(t).y() > 0.9) ++plus_y, turned += l == 1;
+    }
+    EXPECT_GT(turned, 9 * plus_y / 10) << "the quarter turn about the vertical fills the +y side";
+    return double(tipped) / double(bottom);
+  };
+  EXPECT_EQ(tipped_on_bottom(LabelOptions{}.upright_unary), 0.0);
+  EXPECT_GT(tipped_on_bottom(0.0), 0.9);
+}
+
 // A closed cylinder (z axis) seen over 165 degrees of its side (from -70 to 95 degrees about z) as the source, against
 // the whole cylinder, with the turns about z every 30 degrees as candidates, as composed_candidates offers them for a
 // body of revolution. Each turn is supported where it carries a sample onto the seen arc. Every turn fits the template
