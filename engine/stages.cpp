@@ -431,7 +431,12 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());
     const std::vector<Mode> quarters =
         scan && !s->scan_repeats ? axis_quarter_turns(voted.transforms, symmetry, T) : std::vector<Mode>{};
-    s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options, quarters);
+    const std::vector<Mode> upright = config.symmetry.enabled && config.label.upright_unary > 0
+                                          ? upright_turns(voted.transforms, symmetry, T, s->up)
+                                          : std::vector<Mode>{};
+    std::vector<Mode> preferred = quarters;
+    preferred.insert(preferred.end(), upright.begin(), upright.end());
+    s->support = extend_supports(v.source(), T, voted, composed, v.spacing(), 0.0, options, preferred);
     if (!quarters.empty())
       node_logger("support")->info("the quarter and half turns about the target's axis offered as candidates");
     s->voted = Index(voted.transforms.size());

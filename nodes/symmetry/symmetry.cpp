@@ -581,6 +581,21 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
   return out;
 }
 
+std::vector<Mode> upright_turns(const std::vector<SupportedTransform>& found, const SymmetryResult& target_symmetry,
+                                const PointSet& target, const Eigen::Vector3d& up) {
+  const double kUpright = std::cos(3 * M_PI / 180);  // the up direction kept within 3 degrees
+  std::vector<Mode> out;
+  if (target_symmetry.continuous) return out;
+  KdTree tree;
+  for (const SupportedTransform& q : found)
+    for (const Similarity& r : target_symmetry.rotations) {
+      if (up.dot(q.transform.compose(r).rotation * up) < kUpright) continue;
+      if (out.empty()) tree.build(target.positions());
+      out.push_back(composed_mode(q.transform, r, q.support, target, tree));
+    }
+  return out;
+}
+
 std::vector<Mode> axis_quarter_turns(const std::vector<SupportedTransform>& found,
                                      const SymmetryResult& target_symmetry, const PointSet& target) {
   std::vector<Mode> out;

@@ -140,6 +140,16 @@ std::vector<Mode> composed_candidates(const std::vector<SupportedTransform>& fou
                                       const PointSet* exemplar = nullptr,
                                       const Similarity& exemplar_to_source = Similarity{});
 
+// On a template with a discrete symmetry group (a box, a prism; none for a body of revolution, whose turns are
+// many), each found transform Q composed with each of T's own rotations R that keeps the object's `up` direction
+// within 3 degrees. Where a half turn end over end and a half turn about the vertical carry the seen side onto the
+// same face of a box, the two explain the same samples, and the coverage rule and the duplicate rule keep the one
+// with the larger support by a few samples; the label node prefers the upright turn per sample
+// (label.upright_unary) only if it is a candidate. These are kept as preferred (the ribbed box seen square on its
+// short side: its far short side took the near one upside down, the plinth band at its top).
+std::vector<Mode> upright_turns(const std::vector<SupportedTransform>& found, const SymmetryResult& target_symmetry,
+                                const PointSet& target, const Eigen::Vector3d& up);
+
 // The turns eq. 9 prefers about T's continuous axis, for a scan that T's turns all explain alike: the family member
 // nearest the identity of the strongest found transform whose family holds it (not a flip end over end), composed with
 // the turns by 0, 90, 180 and 270 degrees about the axis. Voting finds some turn of the family at random angles, and

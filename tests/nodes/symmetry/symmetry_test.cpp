@@ -230,6 +230,38 @@ TEST(Symmetry, AxisQuarterTurnsAreTheIdentitysFamilyMembersAtQuarterTurnsNotAFli
   EXPECT_TRUE(axis_quarter_turns(found, SymmetryResult{}, column).empty());
 }
 
+// A box that is not square has half turns about x, y and z. Found a flip end over end (about y) and the identity, the
+// upright candidates are the identity composed with the half turn about z, the flip composed with the half turn about
+// x (that same half turn about z) and with its own (the identity): never a flip. A body of revolution offers none.
+TEST(Symmetry, UprightTurnsAreTheCompositionsThatKeepUpUp) {
+  double alpha = 0;
+  const PointSet box = samples_of(make_ribbed_box_template(), alpha);
+  const SymmetryResult r = find_symmetries(box, alpha, {});
+  ASSERT_EQ(r.rotations.size(), 3u);
+  const Eigen::Vector3d mid(0, 0, 0.3);
+  const Eigen::Matrix3d flip = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  std::vector<SupportedTransform> found(2);
+  found[0].transform = Similarity{flip, mid - flip * mid, 1};
+  for (Index t = 0; t < box.size(); t += 3) found[0].support.push_back(std::int32_t(t));
+  found[1].support = found[0].support;
+  const std::vector<Mode> modes = upright_turns(found, r, box, Eigen::Vector3d::UnitZ());
+  ASSERT_EQ(modes.size(), 3u);
+  int half_turns = 0;
+  for (const Mode& m : modes) {
+    const double angle = rotation_angle(m.transform.rotation) * 180 / M_PI;
+    EXPECT_TRUE(angle < 1e-6 || (std::abs(angle - 180) < 1e-6 && rotation_axis(m.transform.rotation).z() > 0.999))
+        << "the identity or a half turn about the vertical, not a flip: " << angle << " degrees";
+    half_turns += angle > 90;
+    EXPECT_LT((m.transform.apply(mid) - mid).norm(), 1e-2);
+    EXPECT_GT(m.votes, 0);
+  }
+  EXPECT_EQ(half_turns, 2);
+  double column_alpha = 0;
+  const PointSet column = samples_of(make_column_template(), column_alpha);
+  EXPECT_TRUE(
+      upright_turns(found, find_symmetries(column, column_alpha, {}), column, Eigen::Vector3d::UnitZ()).empty());
+}
+
 // A box that is not square (0.8 by 0.5 in plan) has no quarter turn, yet its short sides are to take its long side's
 // relief: the identity, seen on the long -y face, composed with the quarter turns that carry each short face onto it,
 // centre onto centre.
