@@ -431,7 +431,7 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());
     const std::vector<Mode> quarters =
         scan && !s->scan_repeats ? axis_quarter_turns(voted.transforms, symmetry, T) : std::vector<Mode>{};
-    const std::vector<Mode> upright = config.symmetry.enabled && config.label.upright_unary > 0
+    const std::vector<Mode> upright = scan && config.symmetry.enabled && config.label.upright_unary > 0
                                           ? upright_turns(voted.transforms, symmetry, T, s->up)
                                           : std::vector<Mode>{};
     std::vector<Mode> preferred = quarters;
@@ -456,6 +456,8 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
     a->supports = in;
     LabelOptions options = state.config.label;
     options.up = in->up;
+    // Completion: the scan's sides do not lend their style to a lid or a floor it did not see.
+    options.caps_take_tips = state.config.mode != RunMode::kCompletion || options.upright_unary <= 0;
     if (options.quarter_unary > 0 && in->scan_repeats) {
       options.quarter_unary = 0;
       node_logger("label")->info("the scan repeats about the target's axis: no preference for quarter turns");

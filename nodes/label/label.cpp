@@ -59,8 +59,8 @@ bool on_cap(const Eigen::Vector3d& n, const Eigen::Vector3d& up) {
 
 // Feasible labels, sparse: the sites within `dilation` alpha of each label's support, found by radius queries
 // around the support samples (never a test of every site against every label). Sorted, without repeats.
-// Ours, with the upright terms on (upright_unary > 0): a transform that tips the object onto its side is not feasible
-// on its caps. It lays the style of the scan's sides on a lid or a floor the scan did not see, where a real object's
+// Ours, in completion (caps_take_tips false): a transform that tips the object onto its side is not feasible on its
+// caps. It lays the style of the scan's sides on a lid or a floor the scan did not see, where a real object's
 // caps are rarely its sides' (a box's, a column's, a vase's). The ribbed box seen square to its short side
 // (-1, 0.01, 0.03) took the side's ribs onto its top and bottom by quarter turns about the horizontal, the votes'
 // best supported (a 0.5 by 0.6 side fits inside the 0.8 by 0.5 lid): F 0.917, the caps 32% off the model.
@@ -72,7 +72,7 @@ std::vector<std::vector<std::int32_t>> feasible_sites(const PointSet& target, co
   std::vector<std::vector<std::int32_t>> feasible(transforms.size());
   tbb::parallel_for(0, int(transforms.size()), [&](int l) {
     auto& sites = feasible[size_t(l)];
-    const bool caps_closed = o.upright_unary > 0 && tips_over(transforms[size_t(l)].transform, up);
+    const bool caps_closed = !o.caps_take_tips && tips_over(transforms[size_t(l)].transform, up);
     const auto open = [&](Index t) { return !caps_closed || !on_cap(target.normals().col(t), up); };
     std::vector<Neighbor> hits;
     for (const auto t : transforms[size_t(l)].support) {

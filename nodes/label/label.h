@@ -34,7 +34,7 @@
 //    sample within the 5-alpha ring with normals within 90 degrees: mrf_radius 5, mrf_min_normal_dot 0); the ring is
 //    used by the clean-up, which moves a sample whose label disagrees with more than cleanup_majority of its
 //    ring to the ring's majority label.
-// Labels are sparse: label l is feasible only within `dilation` alpha of its support, and, with upright_unary > 0,
+// Labels are sparse: label l is feasible only within `dilation` alpha of its support, and, unless caps_take_tips,
 // not on the caps (samples facing within 30 degrees of up or down) where it tips the object onto its side (turns up
 // 60 degrees or more towards the horizontal, short of a flip): the style of the scan's sides is not laid on a lid or a
 // floor the scan did not see.
@@ -71,6 +71,10 @@ struct LabelOptions {
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
                                         // sets it from the target's symmetry axis when the config does not)
+  bool caps_take_tips = true;           // whether a transform that tips the object onto its side may label its caps;
+                                        // not a config key: the engine sets false in completion with upright_unary
+                                        // > 0 (a scan's unseen lid or floor), and keeps true in analogy and transfer,
+                                        // where a part of T may stand as S's lies (an L of two boxes)
   int mrf_k = 6;                        // MRF neighbours per sample; [1, 32]
   double mrf_radius = 0.0;              // if > 0: MRF neighbours are all samples within this many alpha (the paper's
                                         // 5-alpha ring, Euclidean for geodesic) instead of the mrf_k nearest; >= 0

@@ -170,8 +170,8 @@ TEST(Label, WhereNoUprightTransformIsFeasibleTheFlipPaysNoUprightUnary) {
 
 // The cube seen on its +x side only, with the quarter turn about y that tips that side onto the bottom (the cube on its
 // side) and the quarter turn about z that carries it onto the +y side, each supported on the face it fills. The tip
-// is not feasible on the bottom, which stays a plain copy; it is on a side, and with the upright terms off
-// (upright_unary 0, the paper's preset) on the bottom too.
+// is not feasible on the bottom where caps do not take tips (completion), and the bottom stays a plain copy; where
+// they do (analogy and transfer, the default here) the tip takes the bottom.
 TEST(Label, ATransformThatTipsTheObjectOverIsNotFeasibleOnItsCaps) {
   const SeenCube c = seen_cube();
   std::vector<std::int32_t> plus_x;
@@ -184,9 +184,9 @@ TEST(Label, ATransformThatTipsTheObjectOverIsNotFeasibleOnItsCaps) {
     if (c.cube.normals().col(t).z() < -0.9) transforms[0].support.push_back(std::int32_t(t));
     if (c.cube.normals().col(t).y() > 0.9) transforms[1].support.push_back(std::int32_t(t));
   }
-  const auto tipped_on_bottom = [&](double upright_unary) {
+  const auto tipped_on_bottom = [&](bool caps_take_tips) {
     LabelOptions o;
-    o.upright_unary = upright_unary;
+    o.caps_take_tips = caps_take_tips;
     const LabelResult r = label_target(source, c.cube, transforms, c.spacing, o);
     Index bottom = 0, tipped = 0, turned = 0, plus_y = 0;
     for (Index t = 0; t < c.cube.size(); ++t) {
@@ -197,8 +197,8 @@ TEST(Label, ATransformThatTipsTheObjectOverIsNotFeasibleOnItsCaps) {
     EXPECT_GT(turned, 9 * plus_y / 10) << "the quarter turn about the vertical fills the +y side";
     return double(tipped) / double(bottom);
   };
-  EXPECT_EQ(tipped_on_bottom(LabelOptions{}.upright_unary), 0.0);
-  EXPECT_GT(tipped_on_bottom(0.0), 0.9);
+  EXPECT_EQ(tipped_on_bottom(false), 0.0);
+  EXPECT_GT(tipped_on_bottom(true), 0.9);
 }
 
 // A closed cylinder (z axis) seen over 165 degrees of its side (from -70 to 95 degrees about z) as the source, against
