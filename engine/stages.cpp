@@ -431,6 +431,7 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());
     const std::vector<Mode> quarters =
         scan && !s->scan_repeats ? axis_quarter_turns(voted.transforms, symmetry, T) : std::vector<Mode>{};
+    // Completion: the upright turns beside any flip that explains the same face, for label.upright_unary to prefer.
     const std::vector<Mode> upright = scan && config.symmetry.enabled && config.label.upright_unary > 0
                                           ? upright_turns(voted.transforms, symmetry, T, s->up)
                                           : std::vector<Mode>{};
