@@ -152,8 +152,10 @@ double off_quarter(const Similarity& q, const LabelOptions& o) {
 // text2mesh vase seen from the front, a knob in front and behind, got turns of 30, 60, 120 and 150 degrees over its
 // back, the front's knob beside the back's (F 0.898 with the turns exact); 0.972 with the half turn taking the back.
 // At 0.6, the weight took regions from turns the gear's and the fluted column's repeats phase correctly (the column
-// from behind obliquely: unseen-detail 0.98 -> 0.83); 0.3 keeps them. The engine sets it to 0 where the scan repeats
-// about the target's axis: synthesize turns every image to those repeats, whatever the turn.
+// from behind obliquely: unseen-detail 0.98 -> 0.83), so it was 0.3. The engine now sets it to 0 where the scan
+// repeats about the target's axis (synthesize turns every image to those repeats, whatever the turn), and 1.0 serves
+// the scans that do not: the text2mesh vase from (-1, 0.01, 0.03), whose faceted body repeats every 90 degrees, took
+// turns of 120 and 150 degrees at 0.3 (F 0.865, under template blending's 0.910), the half turn at 1.0 (0.963).
 double quarter_unary(const Similarity& q, const LabelOptions& o) {
   return o.quarter_unary * off_quarter(q, o);
 }

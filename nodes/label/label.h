@@ -66,7 +66,7 @@ struct LabelOptions {
   double upright_unary = 0.6;           // per-sample unary of the tilt of +z, (1 - cos tilt) / 2: where a flip and
                                         // an upright turn fit the template alike, each sample prefers the upright
                                         // one; >= 0
-  double quarter_unary = 0.3;           // per-sample unary of an upright turn's angle from the nearest quarter or
+  double quarter_unary = 1.0;           // per-sample unary of an upright turn's angle from the nearest quarter or
                                         // half turn, over 45 degrees, where such a turn is feasible; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
