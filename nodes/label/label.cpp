@@ -43,6 +43,7 @@ struct DataScales {
   double position2, normal2;
 };
 
+// The object's up direction: o.up, +z when unset.
 Eigen::Vector3d up_of(const LabelOptions& o) {
   return o.up ? o.up->normalized() : Eigen::Vector3d::UnitZ();
 }

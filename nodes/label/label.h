@@ -36,8 +36,8 @@
 //    ring to the ring's majority label.
 // Labels are sparse: label l is feasible only within `dilation` alpha of its support, and, unless caps_take_tips,
 // not on the caps (samples facing within 30 degrees of up or down) where it tips the object onto its side (turns up
-// 60 degrees or more towards the horizontal, short of a flip): the style of the scan's sides is not laid on a lid or a
-// floor the scan did not see.
+// more than 60 degrees from both up and down): the style of the scan's sides is not laid on a lid or a floor the scan
+// did not see.
 #pragma once
 
 #include <optional>
