@@ -13,6 +13,7 @@
 #include "nodes/io/read_ply_chunks.h"
 #include "nodes/procedural/castle.h"
 #include "nodes/scan/virtual_scan.h"
+#include "nodes/symmetry/plain_faces.h"
 #include "nodes/synthesize/repeats.h"
 
 namespace scanfill {
@@ -374,17 +375,24 @@ FoundModesPtr modes_stage(RunState& state, const VotesPtr& in) {
 
 namespace {
 
-// label.up, else the target's own axis, else +z, said when the config does not set it (a model drawn y-up without a
-// telling symmetry needs the key).
-Eigen::Vector3d up_direction(const LabelOptions& label, const SymmetryResult& target_symmetry) {
+// label.up, else the target's own axis, else (completion) the target's axis whose faces the scan shows plainest, else
+// +z, said when the config does not set it (a model drawn y-up without a telling symmetry or scan needs the key).
+Eigen::Vector3d up_direction(const LabelOptions& label, const Votes& v) {
   if (label.up) return *label.up;
-  if (const auto axis = upright_axis(target_symmetry)) {
-    node_logger("support")->info("up ({:.3g}, {:.3g}, {:.3g}): the target's symmetry axis", axis->x(), axis->y(),
-                                 axis->z());
-    return *axis;
-  }
+  const SymmetryResult& symmetry = v.symmetries->target_symmetry;
+  const auto say = [](const Eigen::Vector3d& up, const char* why) {
+    node_logger("support")->info("up ({:.3g}, {:.3g}, {:.3g}): {}", up.x(), up.y(), up.z(), why);
+    return up;
+  };
+  if (const auto axis = upright_axis(symmetry)) return say(*axis, "the target's symmetry axis");
+  const Correspondence* scan = v.symmetries->correspondence.get();
+  if (scan && symmetry.axes.size() > 1)
+    if (const auto plain = plainest_face_axis(scan->exemplar->features.points, scan->map.rigid,
+                                              v.target()->features.points, symmetry.axes, v.spacing()))
+      return say(*plain, "the target's axis whose faces the scan shows plainest (a lid and a floor)");
   node_logger("support")->info(
-      "up +z: the target's symmetry singles out no axis (set label.up for a model drawn otherwise)");
+      "up +z: neither the target's symmetry nor the scan singles out an axis (set label.up for a model drawn "
+      "otherwise)");
   return Eigen::Vector3d::UnitZ();
 }
 
@@ -421,7 +429,7 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const SymmetryResult& symmetry = v.symmetries->target_symmetry;
-    s->up = up_direction(config.label, symmetry);
+    s->up = up_direction(config.label, v);
     const Correspondence* scan = v.symmetries->correspondence.get();
     const std::vector<Mode> composed =
         composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,

@@ -13,6 +13,7 @@
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
 #include "nodes/symmetry/face_repeat.h"
+#include "nodes/symmetry/plain_faces.h"
 #include "nodes/symmetry/symmetry.h"
 
 namespace scanfill {
@@ -487,6 +488,51 @@ TEST(Symmetry, PlanarDrawingsHaveOnlyTheirInPlaneRotations) {
   EXPECT_EQ(count_order(planar, Eigen::Vector3d::UnitZ(), 4), 1);
   for (const Similarity& r : planar.rotations)
     EXPECT_TRUE((r.rotation * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ()));
+}
+
+// The samples of `shape` turned by `turn` (positions and normals).
+PointSet turned(const PointSet& shape, const Eigen::Matrix3d& turn) {
+  PointSet out(Eigen::Matrix3Xd(turn * shape.positions()));
+  out.set_normals(turn * shape.normals());
+  return out;
+}
+
+// The samples of `shape` that face the eye direction `eye` (a single view, occlusion aside).
+PointSet facing(const PointSet& shape, const Eigen::Vector3d& eye) {
+  std::vector<Index> kept;
+  for (Index i = 0; i < shape.size(); ++i)
+    if (shape.normals().col(i).dot(eye.normalized()) > 0.2) kept.push_back(i);
+  PointSet out(Eigen::Matrix3Xd(shape.positions()(Eigen::all, kept)));
+  out.set_normals(shape.normals()(Eigen::all, kept));
+  return out;
+}
+
+// A box that is not square has three half-turn axes alike, so its symmetry does not say which is up. The ribbed box
+// carries its ribs on its sides and has a plain lid and floor: seen from the front and above, or from a short side and
+// below, the axis whose faces the scan shows plainest is z, and y once box and scan are turned y-up. A plain box (the
+// template itself as the scan) says nothing, nor does a scan of its long side alone.
+TEST(PlainFaces, TheUpOfABoxThatIsNotSquareIsTheAxisOfItsPlainLidAndFloor) {
+  double alpha = 0, model_alpha = 0;
+  const PointSet box = samples_of(make_ribbed_box_template(), alpha);
+  const PointSet model = samples_of(make_ribbed_box(), model_alpha);
+  const SymmetryResult r = find_symmetries(box, alpha, {});
+  ASSERT_EQ(r.axes.size(), 3u);
+  ASSERT_FALSE(upright_axis(r));
+  for (const Eigen::Vector3d eye : {Eigen::Vector3d(0.2, -1, 0.5), Eigen::Vector3d(1, 0.3, -0.6)}) {
+    const auto up = plainest_face_axis(facing(model, eye), Similarity{}, box, r.axes, alpha);
+    ASSERT_TRUE(up) << "from " << eye.transpose();
+    EXPECT_TRUE(up->isApprox(Eigen::Vector3d::UnitZ(), 1e-6)) << up->transpose();
+  }
+  const Eigen::Matrix3d to_y_up = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const PointSet box_y = turned(box, to_y_up);
+  const SymmetryResult r_y = find_symmetries(box_y, alpha, {});
+  const auto up_y = plainest_face_axis(turned(facing(model, Eigen::Vector3d(0.2, -1, 0.5)), to_y_up), Similarity{},
+                                       box_y, r_y.axes, alpha);
+  ASSERT_TRUE(up_y);
+  EXPECT_GT(up_y->dot(Eigen::Vector3d::UnitY()), 0.999) << up_y->transpose();
+  EXPECT_FALSE(plainest_face_axis(box, Similarity{}, box, r.axes, alpha)) << "a plain box";
+  EXPECT_FALSE(plainest_face_axis(facing(model, Eigen::Vector3d(0, -1, 0)), Similarity{}, box, r.axes, alpha))
+      << "one side";
 }
 
 }  // namespace

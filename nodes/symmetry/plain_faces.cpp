@@ -1,0 +1,86 @@
+#include "nodes/symmetry/plain_faces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nodes/core/kdtree.h"
+
+namespace scanfill {
+
+namespace {
+
+const double kFacesAlong = std::cos(30 * M_PI / 180);  // a template sample faces along an axis
+const double kFacesAlike = std::cos(20 * M_PI / 180);  // a scan sample faces its nearest template sample's way
+constexpr double kPlainDistance = 0.5;                 // alpha off that sample's plane
+constexpr double kSeenShare = 0.02;                    // of the tallied samples, for an axis to count as seen
+constexpr Index kSeenMin = 30;
+constexpr double kPlainMin = 0.4;  // the plainest axis' plain share, at least
+constexpr double kMargin = 0.25;   // over every other seen axis' share
+
+// The index of the axis `normal` faces along, or -1.
+int axis_faced(const Eigen::Vector3d& normal, const std::vector<SymmetryAxis>& axes) {
+  int best = -1;
+  double best_cos = kFacesAlong;
+  for (size_t a = 0; a < axes.size(); ++a) {
+    const double c = std::abs(normal.dot(axes[a].direction));
+    if (c > best_cos) best = int(a), best_cos = c;
+  }
+  return best;
+}
+
+// `d` signed so that its largest coordinate is positive.
+Eigen::Vector3d canonical_sign(const Eigen::Vector3d& d) {
+  Eigen::Index largest;
+  d.cwiseAbs().maxCoeff(&largest);
+  return d[largest] < 0 ? Eigen::Vector3d(-d) : d;
+}
+
+double plain_share(const FaceTally& t) {
+  return t.near > 0 ? double(t.plain) / double(t.near) : 0.0;
+}
+
+}  // namespace
+
+std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Similarity& exemplar_to_target,
+                                          const PointSet& target, const std::vector<SymmetryAxis>& axes,
+                                          double spacing) {
+  std::vector<FaceTally> tallies(axes.size());
+  if (!exemplar.has_normals() || !target.has_normals() || target.empty()) return tallies;
+  KdTree tree;
+  tree.build(target.positions());
+  for (Index i = 0; i < exemplar.size(); ++i) {
+    const Eigen::Vector3d p = exemplar_to_target.apply(exemplar.positions().col(i));
+    std::int32_t j;
+    double d2;
+    if (tree.knn(p, 1, &j, &d2) < 1) continue;
+    const Eigen::Vector3d m = target.normals().col(j);
+    const Eigen::Vector3d n = exemplar_to_target.apply_normal(exemplar.normals().col(i));
+    const int a = axis_faced(m, axes);
+    if (a < 0) continue;
+    ++tallies[a].near;
+    tallies[a].facing += std::abs(n.dot(axes[a].direction)) >= kFacesAlong;
+    tallies[a].plain +=
+        std::abs(n.dot(m)) >= kFacesAlike && std::abs(m.dot(p - target.positions().col(j))) <= kPlainDistance * spacing;
+  }
+  return tallies;
+}
+
+std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, const Similarity& exemplar_to_target,
+                                                  const PointSet& target, const std::vector<SymmetryAxis>& axes,
+                                                  double spacing) {
+  const std::vector<FaceTally> tallies = plain_face_tallies(exemplar, exemplar_to_target, target, axes, spacing);
+  Index tallied = 0;
+  for (const FaceTally& t : tallies) tallied += t.near;
+  const Index seen_min = std::max<Index>(kSeenMin, Index(std::ceil(kSeenShare * double(tallied))));
+  std::vector<size_t> seen;
+  for (size_t a = 0; a < tallies.size(); ++a)
+    if (tallies[a].facing >= seen_min) seen.push_back(a);
+  if (seen.size() < 2) return std::nullopt;
+  const auto plainer = [&](size_t a, size_t b) { return plain_share(tallies[a]) > plain_share(tallies[b]); };
+  std::stable_sort(seen.begin(), seen.end(), plainer);
+  const double best = plain_share(tallies[seen[0]]);
+  if (best < kPlainMin || best < plain_share(tallies[seen[1]]) + kMargin) return std::nullopt;
+  return canonical_sign(axes[seen[0]].direction.normalized());
+}
+
+}  // namespace scanfill

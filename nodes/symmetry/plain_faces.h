@@ -1,0 +1,50 @@
+// The up of a template whose symmetry does not tell it, read from the scan (DESIGN section 9).
+//
+// The upright terms of the label node, its cap rule and the upright turns all need the object's up. A body of
+// revolution or a box with a square footprint gives it (upright_axis); a box with three different sides has three
+// half-turn axes alike, and the engine then assumed +z, which is wrong for a model drawn y-up: the ribbed box drawn
+// y-up took quarter turns about its front-back axis, tipped over, as the "upright" ones (mean F over the six views
+// 0.952 z-up, 0.873 y-up).
+//
+// A box-like object with style carries it on its sides, and its lid and floor are plain (a ribbed or panelled crate, a
+// pillar, a cabinet): so of the template's axes, up is the one whose faces the registered scan shows plainest, when it
+// is clearly the plainest. A scan sample counts for the axis its nearest template sample faces along (within 30
+// degrees), and is plain when it lies within half an alpha of that sample's plane and faces its way (within 20
+// degrees). Ours, not the paper's (the paper's examples are upright).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+#include "nodes/symmetry/symmetry.h"
+
+namespace scanfill {
+
+// Per axis: the scan samples near the faces that face along it, how many of them face along it too (within 30
+// degrees), and how many lie plain on those faces.
+struct FaceTally {
+  Index near = 0;
+  Index facing = 0;
+  Index plain = 0;
+};
+
+// The tallies of the scan (`exemplar`, with normals, moved onto the template by `exemplar_to_target`) against the
+// template `target` (with normals), one per axis of `axes`. Deterministic.
+std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Similarity& exemplar_to_target,
+                                          const PointSet& target, const std::vector<SymmetryAxis>& axes,
+                                          double spacing);
+
+// The axis (its direction, signed so that its largest coordinate is positive) whose faces the scan shows plainest:
+// of the axes the scan sees (samples facing along it: at least 2% of all tallied, and 30; not only the relief's walls
+// near the face's edge), at least two; the plainest has at least 40%
+// of its samples plain, and a share 0.25 above every other seen axis' (the ribbed box: 0.52-0.98 on its lid or floor,
+// 0.20-0.55 on its sides, seen from the sweep's views). None otherwise (the scan sees one side only, or
+// the object's sides are as plain as its lid).
+std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, const Similarity& exemplar_to_target,
+                                                  const PointSet& target, const std::vector<SymmetryAxis>& axes,
+                                                  double spacing);
+
+}  // namespace scanfill
