@@ -516,7 +516,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              coverage ? &coverage->cover.covered : nullptr,
                              &parts,
                              mirror_axis ? &*mirror_axis : nullptr,
-                             coverage && (!state.config.correspond.rigid || map.kept_input_pose)};
+                             coverage && (!state.config.correspond.rigid || map.kept_input_pose),
+                             coverage ? std::optional<Eigen::Vector3d>(analogy->supports->up) : std::nullopt};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];

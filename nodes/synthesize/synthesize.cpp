@@ -448,6 +448,12 @@ bool template_fits_exemplar(const std::vector<std::uint8_t>& raised) {
 // axis keep their free fits: the Vase-Lion's template, its body of revolution, fits its head loosely, and the fits
 // that carry a turn's head 10-13 alpha off it (landing 18-69%) are what its unseen side gains (mean unseen-detail
 // 0.425, 0.372 without them).
+// So too a flip that turns the object's `up` end over end on a region with no slippable motion (`overturns`, where the
+// template fits the exemplar), its landing counted within an alpha: the triangular prism seen from above the front
+// ((-0.10, -0.75, 0.65)), whose back and floor take the seen top and sides flipped about a horizontal axis, slid 1.8
+// alpha up the sides for a 15% lower misfit of its bands, within the regions' 2-alpha landing, and lifted its floor
+// 1.45 cm off the ground (F 0.879; 0.983 pinned). Upright regions keep their fits: the table seen from above needs one
+// of 9 alpha (unseen-detail 0.73; 0.59 with every region without slippable motion pinned so).
 // Nor is a flip pinned where the template does not fit the exemplar (half of it stands off the template): a plain
 // cylinder round a vase lies off it (97-99% of the scan), and the free fits that carry its flipped parts 13-25 alpha
 // onto the placed images, off the cylinder, are better evidence than the template (from below, F 0.626 pinned, 0.654
@@ -458,8 +464,9 @@ bool template_fits_exemplar(const std::vector<std::uint8_t>& raised) {
 // 120 degrees overlapped the images before it only there (3% raised), and slid 2.2 alpha along the far side for a 3%
 // lower misfit, its medallion off the model's (F 0.923, 0.988 kept).
 Similarity refinement(const PlacedImages& placed, const Similarity& q, const Slippage& slip, double spacing,
-                      const SynthesisOptions& o, bool truncated, bool as_given,
-                      const std::function<double(const Similarity&)>& landed, const std::vector<std::uint8_t>& raised) {
+                      const SynthesisOptions& o, bool truncated, bool as_given, bool overturns,
+                      const std::function<double(const Similarity&, bool)>& landed,
+                      const std::vector<std::uint8_t>& raised) {
   const Similarity phase = phase_correction(placed, q, slip, spacing, o);
   const std::array<Similarity, 3> fits{phase, placed.fit_along(q, phase, slip, false, o.refine_iterations),
                                        placed.fit_along(q, phase, slip, true, o.refine_iterations)};
@@ -472,10 +479,11 @@ Similarity refinement(const PlacedImages& placed, const Similarity& q, const Sli
   const bool leaves_template = [&] {
     const bool fitting = template_fits_exemplar(raised), flip = flips_turn_axis(q, slip) && fitting;
     if (truncated || (!slip.motions.empty() && !fitting)) return false;
-    const bool pinned = as_given || flip;
+    const bool overturned = overturns && slip.motions.empty() && fitting;
+    const bool pinned = as_given || flip || overturned;
     if (region_move(fits[2].compose(fits[1].inverse()), slip) <= (pinned ? kAsGivenSlide : kFarSlide) * spacing)
       return false;
-    const double landing = landed(fits[2].compose(q)), phase_landing = landed(phase.compose(q));
+    const double landing = landed(fits[2].compose(q), overturned), phase_landing = landed(phase.compose(q), overturned);
     return pinned ? 10 * landing < 9 * phase_landing : 2 * landing < phase_landing;
   }();
   const bool slides_on_plain = [&] {
@@ -1005,7 +1013,8 @@ Eigen::Vector3d applied_offset(const PlacedImages& exemplar, const std::vector<S
 }
 
 // The share of a label's carried exemplar samples (`used`) whose source samples an inverse carries onto the template.
-using LandedShare = std::function<double(const Similarity& inv, const std::vector<std::int32_t>& used)>;
+using LandedShare =
+    std::function<double(const Similarity& inv, const std::vector<std::int32_t>& used, bool within_alpha)>;
 
 // Per label: whether its image is plain (kPlainHeight): the exemplar samples it carries into its region, not its ring,
 // land on the template under its labelled `inverse` (at least 30 of them, and 1% spared): no relief, and no misfit
@@ -1050,7 +1059,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
             const ExemplarRelief& relief, double spacing, const SynthesisOptions& o, const std::vector<Slippage>& slips,
             std::vector<Similarity>& inv, std::vector<std::optional<PhaseSplit>>& splits,
             const std::vector<TurningPart>* turning_parts, const LandedShare& landed_share, bool as_given,
-            const std::vector<std::uint8_t>& plain, Synthesis& out) {
+            const std::optional<Eigen::Vector3d>& up, const std::vector<std::uint8_t>& plain, Synthesis& out) {
   const size_t L = inv.size();
   out.refinement_deg.assign(L, 0.0);
   out.refinement_shift.assign(L, 0.0);
@@ -1088,10 +1097,13 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
     if (const auto flipped = r ? flip_phase(placed, *r, labelled, spacing) : std::nullopt) {
       inv[best] = *flipped;
     } else if (!plain[best] && best_overlap >= std::max<Index>(30, ep.cols() / 20)) {  // too little says nothing
-      const auto landed = [&, best = best](const Similarity& image) { return landed_share(image, used[best]); };
-      inv[best] =
-          refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, landed, relief.raised)
-              .compose(inv[best]);
+      const auto landed = [&, best = best](const Similarity& image, bool within_alpha) {
+        return landed_share(image, used[best], within_alpha);
+      };
+      const bool overturns = up && (inv[best].rotation * *up).dot(*up) < -0.5;
+      inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, overturns, landed,
+                             relief.raised)
+                      .compose(inv[best]);
       splits[best] = phase_split(placed, ep, used[best], inv[best], slip, spacing, o);
       // The refinement can turn an image about a point off the axis to fit a small overlap (the gear from the front:
       // 122.5 to 111.4 degrees, its axis moved 7.6 mm, teeth 3.4 degrees off on the far side); the repeats then fix
@@ -1641,14 +1653,16 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
       slips[l] = image_slippage(in, labelled_inverse[l], target_tree, spacing * o.reach, int(l), on_template[l]);
   const ExemplarRelief relief = in.covered ? exemplar_relief(ep, en, T, target_tree, spacing) : ExemplarRelief{};
   // Where no registration moved the scan, its images land on the template exactly: within an alpha (see refinement).
-  const LandedShare share_landed = [&](const Similarity& inv, const std::vector<std::int32_t>& carried) {
-    return landed_share(in, target_tree, spacing * (in.scan_as_given ? kAsGivenSlide : o.reach), inv, carried);
+  const LandedShare share_landed = [&](const Similarity& inv, const std::vector<std::int32_t>& carried,
+                                       bool within_alpha) {
+    const double reach = in.scan_as_given || within_alpha ? kAsGivenSlide : o.reach;
+    return landed_share(in, target_tree, spacing * reach, inv, carried);
   };
   const std::vector<std::uint8_t> plain =
       in.covered ? plain_images(ep, T, target_tree, labelled_inverse, used, in_ring, spacing)
                  : std::vector<std::uint8_t>(in.transforms.size(), 0);
   refine(ep, en, region_size, used, in.covered ? &on_template : nullptr, relief, spacing, o, slips, inverse, splits,
-         in.turning_parts, share_landed, in.scan_as_given, plain, out);
+         in.turning_parts, share_landed, in.scan_as_given, in.up, plain, out);
   // Per synthesised sample: where its source sample lands on the target. The images sit the exemplar's registration
   // offset d off the template (the exemplar does), and a source sample lies on its exemplar sample up to relief (the
   // correspondence deforms the template onto the scan): so in the template's frame, each transform followed by -d.

@@ -103,6 +103,9 @@ struct SynthesisInputs {
   // Completion: no registration moved the scan (`correspond.rigid` off, or ICP's pose not taken): it stands on the
   // template as given, so no registration offset is fitted, and fits may not carry pinned regions off the template.
   bool scan_as_given = false;
+  // Completion: the object's up (support's). A flip that turns it end over end on a region without slippable motion
+  // (a prism's back and floor) is pinned to the template by its free fit, as a flip across the axis it turns about is.
+  std::optional<Eigen::Vector3d> up;
 };
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);
