@@ -93,7 +93,8 @@ struct Supports {
   Index voted = 0;                                // transforms grown from the modes
   Index composed = 0;                             // candidates composed with the target's symmetries
   bool scan_repeats = false;                      // completion: the scan repeats about the target's axis
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else +z (label uses it too)
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else the axis of the faces
+                                                  // the scan shows plainest, else +z (label and synthesize use it)
 };
 using SupportsPtr = std::shared_ptr<const Supports>;
 struct Labelled {

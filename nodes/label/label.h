@@ -70,7 +70,8 @@ struct LabelOptions {
                                         // half turn, over 45 degrees, where such a turn is feasible; >= 0
   double scale_prior = 0.5;             // eq. 9 weight of |log2 scale|; >= 0
   std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
-                                        // sets it from the target's symmetry axis when the config does not)
+                                        // sets it from the target's symmetry axis or the scan's plain faces when
+                                        // the config does not)
   bool caps_take_tips = true;           // whether a transform that tips the object onto its side may label its caps;
                                         // not a config key: the engine sets false in completion with upright_unary
                                         // > 0 (a scan's unseen lid or floor), and keeps true in analogy and transfer,
