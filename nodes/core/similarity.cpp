@@ -49,4 +49,15 @@ Similarity point_to_plane_step(const Similarity& q, const Eigen::Matrix3Xd& move
   return out;
 }
 
+PointSet moved_by(const PointSet& points, const Similarity& q) {
+  Eigen::Matrix3Xd p(3, points.size()), n(3, points.size());
+  for (Index i = 0; i < points.size(); ++i) {
+    p.col(i) = q.apply(points.positions().col(i));
+    n.col(i) = q.apply_normal(points.normals().col(i));
+  }
+  PointSet out(std::move(p));
+  out.set_normals(std::move(n));
+  return out;
+}
+
 }  // namespace scanfill

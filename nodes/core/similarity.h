@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nodes/core/point_set.h"
+
 namespace scanfill {
 
 struct Similarity {
@@ -67,5 +69,8 @@ Similarity fit_similarity(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& 
 // applied.
 Similarity point_to_plane_step(const Similarity& q, const Eigen::Matrix3Xd& moved, const Eigen::Matrix3Xd& to,
                                const Eigen::Matrix3Xd& normals, bool allow_scale);
+
+// The points' positions and normals (which they must have) moved by q; no other attribute.
+PointSet moved_by(const PointSet& points, const Similarity& q);
 
 }  // namespace scanfill

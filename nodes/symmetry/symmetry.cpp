@@ -237,18 +237,6 @@ std::optional<Similarity> face_turn(const PlanarFace& a, const PlanarFace& b, co
   return Similarity{R, b.centre - R * a.centre, 1.0};
 }
 
-// Positions and normals moved by q.
-PointSet moved_by(const PointSet& points, const Similarity& q) {
-  Eigen::Matrix3Xd p(3, points.size()), n(3, points.size());
-  for (Index i = 0; i < points.size(); ++i) {
-    p.col(i) = q.apply(points.positions().col(i));
-    n.col(i) = q.apply_normal(points.normals().col(i));
-  }
-  PointSet out(std::move(p));
-  out.set_normals(std::move(n));
-  return out;
-}
-
 // The exemplar (in the source's frame, with normals) and a tree over its positions.
 struct FaceExemplar {
   const PointSet& points;

@@ -397,12 +397,15 @@ const Eigen::Matrix<double, 6, 1>* turn_about_axis(const Slippage& slip) {
   return nullptr;
 }
 
+// Whether q turns `axis` (unit) end over end: more than 120 degrees from itself.
+bool turns_end_over_end(const Similarity& q, const Eigen::Vector3d& axis) {
+  return axis.dot(q.rotation * axis) < -0.5;
+}
+
 // Whether q turns the axis of the region's slippable turn end over end (a flip: a body's bottom onto its top).
 bool flips_turn_axis(const Similarity& q, const Slippage& slip) {
   const auto* v = turn_about_axis(slip);
-  if (!v) return false;
-  const Eigen::Vector3d w = v->head<3>().normalized();
-  return w.dot(q.rotation * w) < -0.5;
+  return v && turns_end_over_end(q, v->head<3>().normalized());
 }
 
 // Whether the template fits the exemplar: fewer than half its samples stand off it (`raised`; empty in a transfer).
@@ -1100,7 +1103,7 @@ void refine(const Eigen::Matrix3Xd& ep, const Eigen::Matrix3Xd& en, const std::v
       const auto landed = [&, best = best](const Similarity& image, bool within_alpha) {
         return landed_share(image, used[best], within_alpha);
       };
-      const bool overturns = up && (inv[best].rotation * *up).dot(*up) < -0.5;
+      const bool overturns = up && turns_end_over_end(inv[best], up->normalized());
       inv[best] = refinement(placed, inv[best], slip, spacing, o, truncated, on_template && as_given, overturns, landed,
                              relief.raised)
                       .compose(inv[best]);

@@ -105,7 +105,7 @@ struct SynthesisInputs {
   bool scan_as_given = false;
   // Completion: the object's up (support's). A flip that turns it end over end on a region without slippable motion
   // (a prism's back and floor) is pinned to the template by its free fit, as a flip across the axis it turns about is.
-  std::optional<Eigen::Vector3d> up;
+  std::optional<Eigen::Vector3d> up = std::nullopt;
 };
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);

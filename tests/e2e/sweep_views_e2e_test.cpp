@@ -49,13 +49,6 @@ struct RunChoice {
 const Similarity kToYUp{Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix(),
                         Eigen::Vector3d::Zero(), 1.0};
 
-// Scan points (positions and normals) turned by q.
-PointSet turned_scan(const PointSet& scan, const Similarity& q) {
-  PointSet out = transformed(scan, q);
-  out.set_normals(q.rotation * scan.normals());
-  return out;
-}
-
 // Procedural `shape` completed with procedural `templ`, seen as in a robustness sweep's view: 2.6 diagonals away
 // along `view`, 480 x 480 at 30 degrees.
 SweepRun complete_seen(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
@@ -76,7 +69,7 @@ SweepRun complete_seen(const std::string& shape, const std::string& templ, const
   camera.fov_deg = 30;
   camera.noise = choice.noise * bounding_box(model.positions()).diagonal();
   const PointSet seen = virtual_scan(drawn, camera).points;
-  const PointSet scan = choice.y_up ? turned_scan(seen, kToYUp) : seen;
+  const PointSet scan = choice.y_up ? moved_by(seen, kToYUp) : seen;
   RunConfig c;
   c.mode = RunMode::kCompletion;
   if (choice.scan_file) write_ply(dir / "scan.ply", scan);

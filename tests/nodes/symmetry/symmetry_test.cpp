@@ -490,13 +490,6 @@ TEST(Symmetry, PlanarDrawingsHaveOnlyTheirInPlaneRotations) {
     EXPECT_TRUE((r.rotation * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ()));
 }
 
-// The samples of `shape` turned by `turn` (positions and normals).
-PointSet turned(const PointSet& shape, const Eigen::Matrix3d& turn) {
-  PointSet out(Eigen::Matrix3Xd(turn * shape.positions()));
-  out.set_normals(turn * shape.normals());
-  return out;
-}
-
 // The samples of `shape` that face the eye direction `eye` (a single view, occlusion aside).
 PointSet facing(const PointSet& shape, const Eigen::Vector3d& eye) {
   std::vector<Index> kept;
@@ -518,15 +511,16 @@ TEST(PlainFaces, TheUpOfABoxThatIsNotSquareIsTheAxisOfItsPlainLidAndFloor) {
   const SymmetryResult r = find_symmetries(box, alpha, {});
   ASSERT_EQ(r.axes.size(), 3u);
   ASSERT_FALSE(upright_axis(r));
-  for (const Eigen::Vector3d eye : {Eigen::Vector3d(0.2, -1, 0.5), Eigen::Vector3d(1, 0.3, -0.6)}) {
+  for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0.2, -1, 0.5), Eigen::Vector3d(1, 0.3, -0.6)}) {
     const auto up = plainest_face_axis(facing(model, eye), Similarity{}, box, r.axes, alpha);
     ASSERT_TRUE(up) << "from " << eye.transpose();
     EXPECT_TRUE(up->isApprox(Eigen::Vector3d::UnitZ(), 1e-6)) << up->transpose();
   }
-  const Eigen::Matrix3d to_y_up = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const PointSet box_y = turned(box, to_y_up);
+  const Similarity to_y_up{Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+                           Eigen::Vector3d::Zero(), 1.0};
+  const PointSet box_y = moved_by(box, to_y_up);
   const SymmetryResult r_y = find_symmetries(box_y, alpha, {});
-  const auto up_y = plainest_face_axis(turned(facing(model, Eigen::Vector3d(0.2, -1, 0.5)), to_y_up), Similarity{},
+  const auto up_y = plainest_face_axis(moved_by(facing(model, Eigen::Vector3d(0.2, -1, 0.5)), to_y_up), Similarity{},
                                        box_y, r_y.axes, alpha);
   ASSERT_TRUE(up_y);
   EXPECT_GT(up_y->dot(Eigen::Vector3d::UnitY()), 0.999) << up_y->transpose();
