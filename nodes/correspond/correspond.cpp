@@ -167,6 +167,46 @@ double relief_thickness(const PointSet& exemplar, const PointSet& source, const 
   return at(0.95) - at(0.05);  // each nth_element finds its own rank, whatever the order
 }
 
+// The shares of the exemplar's samples that q lays more than a spacing outside the source (along the outward normal
+// of their nearest source sample) and more than a spacing inside it. Both zero without source normals.
+struct Sides {
+  double outside = 0, inside = 0;
+  double lesser() const { return std::min(outside, inside); }
+};
+
+Sides sides_of_source(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& q,
+                      double spacing) {
+  if (!source.has_normals() || exemplar.size() == 0) return {};
+  Eigen::Matrix3Xd moved(3, exemplar.size());
+  for (Index i = 0; i < exemplar.size(); ++i) moved.col(i) = q.apply(exemplar.positions().col(i));
+  std::vector<std::int32_t> idx;
+  std::vector<double> d2;
+  nearest_each(tree, moved, idx, d2);
+  Index outside = 0, inside = 0;
+  for (Index i = 0; i < moved.cols(); ++i) {
+    const auto s = idx[size_t(i)];
+    const double height = source.normals().col(s).dot(moved.col(i) - source.positions().col(s));
+    outside += height > spacing;
+    inside += height < -spacing;
+  }
+  const double n = double(moved.cols());
+  return {double(outside) / n, double(inside) / n};
+}
+
+// A template that bounds the scan as given, touching it and cutting through none of it, is the hull its relief is sunk
+// in or the ground it stands on. ICP lays such a scan between its layers, and where that cuts the template through it
+// (a tenth of it on each side), the relief has pulled it, however far: the scanned pillar, its faces' panels sunk up
+// to 10 spacings inside its `box:`, was turned 1.6-17.7 degrees and moved 5-20 spacings by ICP, and every turned image
+// of it landed twice that off the unseen faces (F 0.44-0.64; 0.61-0.72 in its own pose). A scan moved or turned off
+// its template cuts through it as given, and ICP's pose stands.
+constexpr double kBoundsAsGiven = 0.02;  // at most this share on the far side as given
+constexpr double kTouches = 0.05;        // at least this share on the template as given
+constexpr double kCutThrough = 0.1;      // at least this share on each side in ICP's pose
+
+bool cut_through_its_bounding_template(const Sides& as_given, const Sides& registered, double on_as_given) {
+  return as_given.lesser() <= kBoundsAsGiven && on_as_given >= kTouches && registered.lesser() >= kCutThrough;
+}
+
 // ICP's pose, unless it moves the scan by less than the relief's pull, turns it by less than the relief's turn (both
 // above), and puts less of it on the template than its own pose does. A scan whose relief covers much of what
 // it saw has no pose that puts all of it on a plain template: ICP settles between the relief and the ground it stands
@@ -183,11 +223,11 @@ double relief_thickness(const PointSet& exemplar, const PointSet& source, const 
 // its layers, its heights span 2.7 spacings. And it turns further: the same box seen square on its long side from a
 // little below, inside its 8-vertex template, was turned 0.83 degrees (2.2 spacings) by the ribs and plinth, 13% of
 // it on the template against 60% as given (F 0.661). The moved crate above is not grounded (24% as given): its
-// 2.1 degrees and 2 cm lie within its relief's 2.1 cm, and only ICP's pose is right. Nor is a move that keeps the
-// ground on the template a pull: the scanned pillar from above, whose panels lie 10 spacings inside its `box:`, is
-// moved 5 spacings and 1.8 degrees by ICP with 36% of it on the box either way, and completes better so (unseen-detail
-// 0.43, 0.20 as given). The ribbed box seen from below in its `box:`, turned 0.84 degrees and moved 3.0 spacings at
-// its far end by a relief 2.9 spacings thick, keeps its pose (F 0.630 -> 0.919).
+// 2.1 degrees and 2 cm lie within its relief's 2.1 cm, and only ICP's pose is right. The ribbed box seen from below
+// in its `box:`, turned 0.84 degrees and moved 3.0 spacings at its far end by a relief 2.9 spacings thick, keeps its
+// pose (F 0.630 -> 0.919). A scan its template bounds keeps its pose however far ICP moved it, where that pose cuts
+// the template through it (cut_through_its_bounding_template): the scanned pillar, whose panels lie 10 spacings inside
+// its `box:`, moved 5 spacings and turned 1.8 degrees from above with 36% of it on the box either way.
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                                       double spacing, const CorrespondOptions& o, CorrespondResult& r) {
   const Similarity icp_pose = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
@@ -197,8 +237,12 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
   const double thickness = off_its_ground ? relief_thickness(exemplar, source, tree, icp_pose) : 0.0;
   const double pull = std::max(kReliefPull * spacing, thickness);
   const double turn = std::max(kReliefTurn, thickness / std::max(radius_about_centroid(exemplar.positions()), spacing));
-  if (rotation_angle(icp_pose.rotation) > turn ||
-      largest_displacement(exemplar.positions(), icp_pose) > pull + thickness || as_given <= registered)
+  const bool pulled_through =
+      cut_through_its_bounding_template(sides_of_source(exemplar, source, tree, Similarity{}, spacing),
+                                        sides_of_source(exemplar, source, tree, icp_pose, spacing), as_given);
+  if (!pulled_through &&
+      (rotation_angle(icp_pose.rotation) > turn ||
+       largest_displacement(exemplar.positions(), icp_pose) > pull + thickness || as_given <= registered))
     return icp_pose;
   r.kept_input_pose = true;
   return Similarity{};
