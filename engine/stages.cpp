@@ -284,7 +284,7 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}; {} of {} exemplar samples matched, RMS {:.4g} "
             "after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
-            c->map.kept_input_pose ? " (ICP's, not taken: more of the scan lies on the template in its own pose)"
+            c->map.kept_input_pose ? " (ICP's, not taken: the scan's relief pulled it off the template)"
             : c->map.laid_on_axis  ? " (the scan's own axis of revolution laid on the template's)"
                                    : "",
             c->map.matched, E.size(), c->map.deformed_rms);
