@@ -340,6 +340,7 @@ SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const Feat
     s->target_symmetry.parts = find_part_symmetries(target->features.points, s->spacing, s->target_symmetry, options,
                                                     &target->sampled->loaded->load.points);
     s->target_symmetry.faces = find_planar_faces(target->features.points, s->spacing, options);
+    s->target_axes = object_axes(s->target_symmetry);
     node_logger("symmetry")
         ->info("source: {}; target: {} ({} rotations; {} parts about their own axis; {} flat faces)",
                describe(s->source_symmetry), describe(s->target_symmetry), s->target_symmetry.rotations.size(),
@@ -354,6 +355,7 @@ VotesPtr vote_stage(RunState& state, const SymmetriesPtr& in) {
     v->symmetries = in;
     VoteOptions options = state.config.vote;
     options.planar = state.config.mode == RunMode::kCurves;
+    options.axes = in->target_axes;
     v->votes = vote(in->source, in->target->features.points, in->spacing, options);
     // A source symmetric about an axis votes for rings of equivalent motions: one mode per ring (DESIGN section 9).
     if (in->source_symmetry.continuous) quotient_votes(v->votes, *in->source_symmetry.continuous);

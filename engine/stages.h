@@ -72,6 +72,7 @@ struct Symmetries {
   CorrespondencePtr correspondence;  // completion: the scan on the template (support's face shifts read it); else null
   double spacing = 0;
   SymmetryResult source_symmetry, target_symmetry;
+  std::optional<Eigen::Matrix3d> target_axes;  // T's own axes (object_axes): unset where the world's
 };
 using SymmetriesPtr = std::shared_ptr<const Symmetries>;
 struct Votes {

@@ -522,6 +522,26 @@ std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry) {
   return std::nullopt;
 }
 
+std::optional<Eigen::Matrix3d> object_axes(const SymmetryResult& symmetry) {
+  if (symmetry.axes.empty()) return std::nullopt;
+  const auto principal = principal_axis(symmetry);
+  const Eigen::Vector3d z = (principal ? principal->direction : symmetry.axes.front().direction).normalized();
+  const SymmetryAxis* square = nullptr;
+  for (const auto& a : symmetry.axes)
+    if (std::abs(a.direction.dot(z)) <= std::sin(10 * M_PI / 180) &&
+        (!square || std::abs(a.direction.dot(z)) < std::abs(square->direction.dot(z))))
+      square = &a;
+  const Eigen::Vector3d seed = square                             ? square->direction
+                               : std::abs(z.x()) < std::sqrt(0.5) ? Eigen::Vector3d::UnitX()
+                                                                  : Eigen::Vector3d::UnitY();
+  Eigen::Matrix3d frame;
+  frame.col(0) = (seed - seed.dot(z) * z).normalized();
+  frame.col(2) = z;
+  frame.col(1) = z.cross(frame.col(0));
+  if (is_axis_rotation(frame, M_PI / 180)) return std::nullopt;
+  return frame;
+}
+
 void quotient_votes(VoteResult& votes, const SymmetryAxis& axis) {
   tbb::parallel_for(Index(0), votes.embedding.cols(), [&](Index v) {
     votes.embedding.col(v) = embed(nearest_identity_member(unembed(votes.embedding.col(v), votes), axis), votes);

@@ -48,8 +48,9 @@ VoteResult vote(const PointSet& source, const PointSet& target, double spacing, 
   VoteResult result;
   Eigen::Matrix3Xd both(3, source.size() + target.size());
   both << source.positions(), target.positions();
-  const BoundingBox box = bounding_box(both);
+  const BoundingBox box = bounding_box(o.axes ? Eigen::Matrix3Xd(o.axes->transpose() * both) : both);
   result.center = 0.5 * (box.min + box.max);
+  if (o.axes) result.center = *o.axes * result.center;
   result.diagonal = std::max(box.diagonal(), 1e-12);
   result.weights = {o.rotation_weight, o.translation_weight, o.scale_weight};
 

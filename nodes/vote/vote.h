@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "nodes/core/analogy.h"
@@ -39,7 +40,10 @@ struct VoteOptions {
   double translation_weight = 8.0;    // w_t (translation in units of the bounding-box diagonal); > 0
   double scale_weight = 2.0;          // w_s (log scale); > 0
   std::uint64_t seed = 1;
-  bool planar = false;  // the z = 0 plane (mode curves; set by the engine, no key): see below
+  bool planar = false;                  // the z = 0 plane (mode curves; set by the engine, no key): see below
+  std::optional<Eigen::Matrix3d> axes;  // the target's own axes (columns; set by the engine, no key): the vote space's
+                                        // translations are in units of the bounding box's diagonal in these axes, the
+                                        // same for a shape standing turned in the world's frame; unset: the world's
 };
 
 // source and target need normals, curvatures and directions (the features node). `spacing` is the sample spacing

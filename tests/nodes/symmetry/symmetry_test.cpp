@@ -10,6 +10,7 @@
 
 #include "nodes/core/kdtree.h"
 #include "nodes/curves/sample_curves.h"
+#include "nodes/features/estimate_features.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
 #include "nodes/symmetry/face_repeat.h"
@@ -47,6 +48,24 @@ TEST(Symmetry, ABoxWithASquareSectionHasQuarterTurnsAboutZAndHalfTurnsAboutXAndY
     EXPECT_TRUE(is_axis_rotation(q.rotation, 1e-6));
     EXPECT_NEAR((q.apply(Eigen::Vector3d(0, 0, 0.4)) - Eigen::Vector3d(0, 0, 0.4)).norm(), 0, 1e-2);
   }
+}
+
+// The box's own axes: none for the box drawn square to the world's (its frame is the world's), and the turn's axes for
+// the box standing turned 30 degrees about z and 20 about x, within a degree. Sampled as the pipeline samples (evenly:
+// a tilted axis passes through the samples' centroid).
+TEST(Symmetry, TheObjectAxesOfATurnedBoxAreItsOwn) {
+  const auto axes_of = [](const PointSet& mesh) {
+    const SampleResult s = sample(mesh, {.count = kSamples});
+    return object_axes(find_symmetries(estimate_features(s.samples, {}).points, s.spacing, {}));
+  };
+  const PointSet box = make_ribbed_box_template();
+  EXPECT_FALSE(axes_of(box));
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+  const auto axes = axes_of(transformed(box, Similarity{turn, Eigen::Vector3d::Zero(), 1.0}));
+  ASSERT_TRUE(axes);
+  EXPECT_TRUE(is_axis_rotation(turn.transpose() * *axes, M_PI / 180));
 }
 
 // A triangular prism (an 8-vertex template's odd cousin): its box centre is 0.1 off its axis, and neither a half turn

@@ -271,6 +271,35 @@ TEST(Vote, TheEmbeddingFrameIsTheBoxOfBothShapes) {
   for (Index v = 0; v < 2; ++v) EXPECT_LT(unembed(r.embedding.col(v), r).apply(Eigen::Vector3d(2, 2, 2)).norm(), 1e-12);
 }
 
+// Shapes standing turned in the world's frame, with their own axes given, are embedded as unturned: the same box
+// diagonal (the world's box of the turned shapes is 28% larger here), so the same translation scale, about the turned
+// centre; the embedded votes of each pair are as far apart as unturned.
+TEST(Vote, TheEmbeddingFrameIsTheBoxInTheShapesOwnAxes) {
+  PointSet S = random_features(300, 5);
+  Eigen::Matrix3Xd p = S.positions();
+  p.row(0) *= 0.8;
+  p.row(1) *= 0.5;
+  p.row(2) *= 0.6;
+  S = PointSet(p);
+  S.set_normals(random_features(300, 5).normals());
+  S.set_directions(random_features(300, 5).directions());
+  S.set_curvatures(random_features(300, 5).curvatures());
+  const PointSet T = moved(S, Similarity{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.1, 0, 0), 1.0});
+  const Similarity turn{rot(20 * M_PI / 180, Eigen::Vector3d::UnitX()) * rot(30 * M_PI / 180, Eigen::Vector3d::UnitZ()),
+                        Eigen::Vector3d::Zero(), 1.0};
+  const VoteResult drawn = vote(S, T, kSpacing, {});
+  VoteOptions own;
+  own.axes = turn.rotation;
+  const VoteResult turned = vote(moved(S, turn), moved(T, turn), kSpacing, own);
+  EXPECT_NEAR(turned.diagonal, drawn.diagonal, 1e-9);
+  EXPECT_LT((turned.center - turn.apply(drawn.center)).norm(), 1e-9);
+  EXPECT_GT(vote(moved(S, turn), moved(T, turn), kSpacing, {}).diagonal, 1.2 * drawn.diagonal);
+  ASSERT_EQ(turned.embedding.cols(), drawn.embedding.cols());
+  for (Index v = 1; v < drawn.embedding.cols(); ++v)
+    EXPECT_NEAR((turned.embedding.col(v) - turned.embedding.col(v - 1)).norm(),
+                (drawn.embedding.col(v) - drawn.embedding.col(v - 1)).norm(), 1e-6);
+}
+
 TEST(Vote, EmbeddingDistancesAreChordalRotationScaledTranslationAndLogScale) {
   VoteResult frame;
   frame.center = Eigen::Vector3d(1, 2, 3);
