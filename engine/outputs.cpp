@@ -28,13 +28,15 @@ nlohmann::json rotation_json(const Eigen::Matrix3d& R) {
   return rotation;
 }
 
-nlohmann::json transform_json(int label, const char* kind, const Similarity& q, Index support, Index labelled) {
+// `axes`: the target's own (Symmetries::target_axes), in which `axis_rotation` is measured; unset: the world's.
+nlohmann::json transform_json(int label, const char* kind, const Similarity& q, Index support, Index labelled,
+                              const std::optional<Eigen::Matrix3d>& axes) {
   return {{"label", label},
           {"kind", kind},
           {"rotation", rotation_json(q.rotation)},
           {"rotation_deg", rotation_angle(q.rotation) * 180 / M_PI},
           {"rotation_axis", json_vec(rotation_axis(q.rotation))},
-          {"axis_rotation", is_axis_rotation(q.rotation, M_PI / 180)},
+          {"axis_rotation", is_axis_rotation(in_frame(q.rotation, axes), M_PI / 180)},
           {"translation", json_vec(q.translation)},
           {"scale", q.scale},
           {"support", support},
@@ -236,9 +238,10 @@ nlohmann::json write_analogy(const RunState& state, const Labelled& a, RunOutcom
   nlohmann::json list = nlohmann::json::array();
   for (int l = 0; l < L.self_label; ++l)
     list.push_back(transform_json(l, "similarity", transforms[size_t(l)].transform,
-                                  Index(transforms[size_t(l)].support.size()), count[size_t(l)]));
-  list.push_back(
-      transform_json(L.self_label, "self", Similarity{}, count[size_t(L.self_label)], count[size_t(L.self_label)]));
+                                  Index(transforms[size_t(l)].support.size()), count[size_t(l)],
+                                  a.votes().symmetries->target_axes));
+  list.push_back(transform_json(L.self_label, "self", Similarity{}, count[size_t(L.self_label)],
+                                count[size_t(L.self_label)], a.votes().symmetries->target_axes));
   std::vector<double> label(L.labels.begin(), L.labels.end());
   PointSet points = a.votes().target()->features.points;  // the target's own colours, if any, give way to labels'
   Matrix3Xu8 rgb(3, points.size());

@@ -467,6 +467,7 @@ LabelledPtr label_stage(RunState& state, const SupportsPtr& in) {
     a->supports = in;
     LabelOptions options = state.config.label;
     options.up = in->up;
+    options.axes = v.symmetries->target_axes;
     // Completion: the scan's sides do not lend their style to a lid or a floor it did not see.
     options.caps_take_tips = state.config.mode != RunMode::kCompletion || options.upright_unary <= 0;
     if (options.quarter_unary > 0 && in->scan_repeats) {

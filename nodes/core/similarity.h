@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "nodes/core/point_set.h"
 
@@ -46,6 +47,11 @@ inline double rotation_angle(const Eigen::Matrix3d& R) {
 inline Eigen::Vector3d rotation_axis(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
   return aa.angle() > 0 ? Eigen::Vector3d(aa.axis()) : Eigen::Vector3d::UnitZ();
+}
+
+// R seen in the frame whose axes are the columns of the rotation `axes` (unset: the world's).
+inline Eigen::Matrix3d in_frame(const Eigen::Matrix3d& R, const std::optional<Eigen::Matrix3d>& axes) {
+  return axes ? Eigen::Matrix3d(axes->transpose() * R * *axes) : R;
 }
 
 // True when R is within `tolerance` radians of one of the 24 rotations that map axes to axes (the kappa pi / 2

@@ -276,7 +276,7 @@ class Eq7Pairwise {
 // Eq. 9 with the gimbal-safe residual rotation, the scale prior and the upright prior (ours).
 double our_label_cost(const Similarity& q, Index n, const LabelOptions& o) {
   return o.label_cost_per_sample * double(n) *
-         (1 + o.rotation_prior * residual_axis_angle(q.rotation) / (M_PI / 4) +
+         (1 + o.rotation_prior * residual_axis_angle(in_frame(q.rotation, o.axes)) / (M_PI / 4) +
           o.scale_prior * std::abs(std::log2(q.scale)) + o.upright_prior * tilt(q, o));
 }
 
@@ -291,11 +291,11 @@ Eigen::Vector3d xyz_euler_angles(const Eigen::Matrix3d& R) {
 
 // Eq. 8 and 9 as printed: -N log P(E_l), P = 1 for the identity and 0.5 prod_a exp(cos 4 R_a) / e exp(-(s - 1)^2)
 // otherwise, R_a the Euler angles of R = R_x R_y R_z.
-double paper_label_cost(const Similarity& q, Index n, double spacing) {
+double paper_label_cost(const Similarity& q, Index n, double spacing, const LabelOptions& o) {
   const bool identity =
       rotation_angle(q.rotation) < 2 * M_PI / 180 && std::abs(q.scale - 1) < 0.01 && q.translation.norm() < spacing;
   if (identity) return 0.0;
-  const Eigen::Vector3d euler = xyz_euler_angles(q.rotation);
+  const Eigen::Vector3d euler = xyz_euler_angles(in_frame(q.rotation, o.axes));
   double minus_log_p = std::log(2.0) + (q.scale - 1) * (q.scale - 1);
   for (int a = 0; a < 3; ++a) minus_log_p += 1 - std::cos(4 * euler(a));
   return double(n) * minus_log_p;
@@ -306,7 +306,7 @@ std::vector<double> label_costs(const std::vector<SupportedTransform>& transform
                                 const LabelOptions& o) {
   std::vector<double> cost(transforms.size() + 1, 0.0);
   for (size_t l = 0; l < transforms.size(); ++l)
-    cost[l] = o.paper_label_costs ? paper_label_cost(transforms[l].transform, n, spacing)
+    cost[l] = o.paper_label_costs ? paper_label_cost(transforms[l].transform, n, spacing, o)
                                   : our_label_cost(transforms[l].transform, n, o);
   return cost;
 }

@@ -10,8 +10,8 @@
 //    (2 (sigma_p alpha)^2) + (1 - R_l n . R_l' n) / sigma_n^2) + mu), m and n the edge's midpoint and mean normal.
 //    With pairwise_cap <= mu it is a metric, as expansion needs. Self-reference against any label costs cap + mu.
 //  - eq. 9 needs Euler angles, ambiguous near gimbal lock: the label prior uses the angle of the residual rotation
-//    from the nearest of the 24 axis-aligned rotations: h_l = label_cost_per_sample N (1 + rotation_prior angle / 45
-//    deg
+//    from the nearest of the 24 rotations that map the object's axes (`axes`, else the world's) to axes: h_l =
+//    label_cost_per_sample N (1 + rotation_prior angle / 45 deg
 //    + scale_prior |log2 s| + upright_prior (1 - cos tilt) / 2), N the number of target samples, tilt the angle
 //    between R z and z. The paper's eq. 9 cannot tell a quarter turn about the vertical from a half turn that turns
 //    the object upside down (both are kappa pi / 2 rotations), and on a symmetric template the data cannot either;
@@ -72,6 +72,9 @@ struct LabelOptions {
   std::optional<Eigen::Vector3d> up;    // the object's up direction for the upright terms; unset: +z (the engine
                                         // sets it from the target's symmetry axis or the scan's plain faces when
                                         // the config does not)
+  std::optional<Eigen::Matrix3d> axes;  // the object's own axes (columns) whose quarter turns eq. 9 prefers; unset:
+                                        // the world's (the engine sets them from the target's symmetry and up, for
+                                        // an object standing turned in the scan's frame)
   bool caps_take_tips = true;           // whether a transform that tips the object onto its side may label its caps;
                                         // not a config key: the engine sets false in completion with upright_unary
                                         // > 0 (a scan's unseen lid or floor), and keeps true in analogy and transfer,
