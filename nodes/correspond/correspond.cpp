@@ -122,23 +122,34 @@ double largest_displacement(const Eigen::Matrix3Xd& p, const Similarity& q) {
   return most;
 }
 
-// The share of the exemplar's samples that q puts on the source: within half a spacing of the tangent plane of their
-// nearest source sample (of the sample itself without normals), and within two spacings of it.
-double share_on_source(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& q,
-                       double spacing) {
+// Where q lays the exemplar's samples against the source, as shares of them:
+// - on: within half a spacing of the tangent plane of their nearest source sample (of the sample itself without
+//   normals), and within two spacings of it;
+// - outside, inside: more than a spacing outside the source along the outward normal of their nearest source sample,
+//   or inside it (both zero without source normals).
+struct Placement {
+  double on = 0, outside = 0, inside = 0;
+  double lesser_side() const { return std::min(outside, inside); }
+};
+
+Placement placement_on_source(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& q,
+                              double spacing) {
   Eigen::Matrix3Xd moved(3, exemplar.size());
   for (Index i = 0; i < exemplar.size(); ++i) moved.col(i) = q.apply(exemplar.positions().col(i));
   std::vector<std::int32_t> idx;
   std::vector<double> d2;
   nearest_each(tree, moved, idx, d2);
-  Index on = 0;
+  Index on = 0, outside = 0, inside = 0;
   for (Index i = 0; i < moved.cols(); ++i) {
-    if (d2[size_t(i)] > 4 * spacing * spacing) continue;
     const Eigen::Vector3d d = moved.col(i) - source.positions().col(idx[size_t(i)]);
-    const double off = source.has_normals() ? std::abs(d.dot(source.normals().col(idx[size_t(i)]))) : d.norm();
-    on += off <= 0.5 * spacing;
+    const double height = source.has_normals() ? d.dot(source.normals().col(idx[size_t(i)])) : 0.0;
+    outside += height > spacing;
+    inside += height < -spacing;
+    if (d2[size_t(i)] > 4 * spacing * spacing) continue;
+    on += (source.has_normals() ? std::abs(height) : d.norm()) <= 0.5 * spacing;
   }
-  return double(on) / double(std::max<Index>(1, moved.cols()));
+  const double n = double(std::max<Index>(1, moved.cols()));
+  return {double(on) / n, double(outside) / n, double(inside) / n};
 }
 
 // The thickness of the exemplar's relief over the source as q lays it: the spread between the 5th and 95th percentiles
@@ -167,32 +178,6 @@ double relief_thickness(const PointSet& exemplar, const PointSet& source, const 
   return at(0.95) - at(0.05);  // each nth_element finds its own rank, whatever the order
 }
 
-// The shares of the exemplar's samples that q lays more than a spacing outside the source (along the outward normal
-// of their nearest source sample) and more than a spacing inside it. Both zero without source normals.
-struct Sides {
-  double outside = 0, inside = 0;
-  double lesser() const { return std::min(outside, inside); }
-};
-
-Sides sides_of_source(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& q,
-                      double spacing) {
-  if (!source.has_normals() || exemplar.size() == 0) return {};
-  Eigen::Matrix3Xd moved(3, exemplar.size());
-  for (Index i = 0; i < exemplar.size(); ++i) moved.col(i) = q.apply(exemplar.positions().col(i));
-  std::vector<std::int32_t> idx;
-  std::vector<double> d2;
-  nearest_each(tree, moved, idx, d2);
-  Index outside = 0, inside = 0;
-  for (Index i = 0; i < moved.cols(); ++i) {
-    const auto s = idx[size_t(i)];
-    const double height = source.normals().col(s).dot(moved.col(i) - source.positions().col(s));
-    outside += height > spacing;
-    inside += height < -spacing;
-  }
-  const double n = double(moved.cols());
-  return {double(outside) / n, double(inside) / n};
-}
-
 // A template that bounds the scan as given, touching it and cutting through none of it, is the hull its relief is sunk
 // in or the ground it stands on. ICP lays such a scan between its layers, and where that cuts the template through it
 // (a tenth of it on each side), the relief has pulled it, however far: the scanned pillar, its faces' panels sunk up
@@ -203,8 +188,8 @@ constexpr double kBoundsAsGiven = 0.02;  // at most this share on the far side a
 constexpr double kTouches = 0.05;        // at least this share on the template as given
 constexpr double kCutThrough = 0.1;      // at least this share on each side in ICP's pose
 
-bool cut_through_its_bounding_template(const Sides& as_given, const Sides& registered, double on_as_given) {
-  return as_given.lesser() <= kBoundsAsGiven && on_as_given >= kTouches && registered.lesser() >= kCutThrough;
+bool cut_through_its_bounding_template(const Placement& as_given, const Placement& registered) {
+  return as_given.lesser_side() <= kBoundsAsGiven && as_given.on >= kTouches && registered.lesser_side() >= kCutThrough;
 }
 
 // ICP's pose, unless it moves the scan by less than the relief's pull, turns it by less than the relief's turn (both
@@ -231,18 +216,15 @@ bool cut_through_its_bounding_template(const Sides& as_given, const Sides& regis
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                                       double spacing, const CorrespondOptions& o, CorrespondResult& r) {
   const Similarity icp_pose = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
-  const double as_given = share_on_source(exemplar, source, tree, Similarity{}, spacing);
-  const double registered = share_on_source(exemplar, source, tree, icp_pose, spacing);
-  const bool off_its_ground = as_given >= kGrounded && registered <= kOffGround * as_given;
+  const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
+  const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
+  const bool off_its_ground = as_given.on >= kGrounded && registered.on <= kOffGround * as_given.on;
   const double thickness = off_its_ground ? relief_thickness(exemplar, source, tree, icp_pose) : 0.0;
   const double pull = std::max(kReliefPull * spacing, thickness);
   const double turn = std::max(kReliefTurn, thickness / std::max(radius_about_centroid(exemplar.positions()), spacing));
-  const bool pulled_through =
-      cut_through_its_bounding_template(sides_of_source(exemplar, source, tree, Similarity{}, spacing),
-                                        sides_of_source(exemplar, source, tree, icp_pose, spacing), as_given);
-  if (!pulled_through &&
+  if (!cut_through_its_bounding_template(as_given, registered) &&
       (rotation_angle(icp_pose.rotation) > turn ||
-       largest_displacement(exemplar.positions(), icp_pose) > pull + thickness || as_given <= registered))
+       largest_displacement(exemplar.positions(), icp_pose) > pull + thickness || as_given.on <= registered.on))
     return icp_pose;
   r.kept_input_pose = true;
   return Similarity{};
