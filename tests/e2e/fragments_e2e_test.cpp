@@ -10,6 +10,7 @@
 #include "engine/config.h"
 #include "engine/console.h"
 #include "engine/pipeline.h"
+#include "nodes/core/similarity.h"
 #include "nodes/eval/evaluate.h"
 #include "nodes/io/read_point_set.h"
 #include "nodes/io/write_ply.h"
@@ -27,14 +28,7 @@ PointSet scan_fragment(const Eigen::Vector3d& eye, const Similarity& motion, con
   o.target = Eigen::Vector3d(0, 0, 0.5);
   o.width = o.height = 360;
   o.fov_deg = 30;
-  const PointSet seen = virtual_scan(make_shape("vase"), o).points;
-  Eigen::Matrix3Xd p(3, seen.size()), n(3, seen.size());
-  for (Index i = 0; i < seen.size(); ++i) {
-    p.col(i) = motion.apply(seen.positions().col(i));
-    n.col(i) = motion.apply_normal(seen.normals().col(i));
-  }
-  PointSet moved(std::move(p));
-  moved.set_normals(std::move(n));
+  const PointSet moved = moved_by(virtual_scan(make_shape("vase"), o).points, motion);
   write_ply(file, moved);
   return moved;
 }
