@@ -129,6 +129,14 @@ std::vector<Similarity> close_group(const std::vector<Similarity>& generators, d
   return group;
 }
 
+// A fixed direction square to the unit axis a: the world's x made square to it, or its y where x lies within 30
+// degrees of a.
+Eigen::Vector3d square_reference(const Eigen::Vector3d& a) {
+  Eigen::Vector3d e = Eigen::Vector3d::UnitX() - a.x() * a;
+  if (e.norm() < 0.5) e = Eigen::Vector3d::UnitY() - a.y() * a;
+  return e.normalized();
+}
+
 // The angle theta of the rotation G_theta about the unit axis a that picks one member of the family G_theta R: the one
 // nearest the identity; when the whole family is about as far from it (R turns a over, as a flip does: every member
 // has the same trace), the one that keeps a fixed reference direction e, perpendicular to a, best (e G_theta R e
@@ -139,9 +147,7 @@ double twist_to_identity(const Eigen::Matrix3d& R, const Eigen::Vector3d& a) {
   // trace(G_theta R) = a'Ra + cos(theta) (tr R - a'Ra) + sin(theta) tr([a]_x R): largest at theta = atan2(B, A).
   const double A = R.trace() - a.dot(R * a), B = (across * R).trace();
   if (std::hypot(A, B) > 0.25) return std::atan2(B, A);
-  Eigen::Vector3d e = Eigen::Vector3d::UnitX() - a.x() * a;
-  if (e.norm() < 0.5) e = Eigen::Vector3d::UnitY() - a.y() * a;
-  e.normalize();
+  const Eigen::Vector3d e = square_reference(a);
   const Eigen::Vector3d r = R * e, r_perp = r - a.dot(r) * a;
   return std::atan2(e.dot(a.cross(r_perp)), e.dot(r_perp));
 }
@@ -531,11 +537,9 @@ std::optional<Eigen::Matrix3d> object_axes(const SymmetryResult& symmetry) {
     if (std::abs(a.direction.dot(z)) <= std::sin(10 * M_PI / 180) &&
         (!square || std::abs(a.direction.dot(z)) < std::abs(square->direction.dot(z))))
       square = &a;
-  const Eigen::Vector3d seed = square                             ? square->direction
-                               : std::abs(z.x()) < std::sqrt(0.5) ? Eigen::Vector3d::UnitX()
-                                                                  : Eigen::Vector3d::UnitY();
   Eigen::Matrix3d frame;
-  frame.col(0) = (seed - seed.dot(z) * z).normalized();
+  frame.col(0) =
+      square ? Eigen::Vector3d((square->direction - square->direction.dot(z) * z).normalized()) : square_reference(z);
   frame.col(2) = z;
   frame.col(1) = z.cross(frame.col(0));
   if (is_axis_rotation(frame, M_PI / 180)) return std::nullopt;

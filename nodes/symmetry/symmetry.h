@@ -106,10 +106,11 @@ std::optional<Eigen::Vector3d> upright_axis(const SymmetryResult& symmetry);
 std::optional<SymmetryAxis> principal_axis(const SymmetryResult& symmetry);
 
 // The shape's own axes, the columns of a rotation: its principal symmetry axis (else its first), the symmetry axis
-// most nearly square to that (within 10 degrees; else the world's x, or y where x is near it, made square to it), and
-// their cross product; nullopt without a symmetry axis, or where the frame lies within a degree of the world's axes (a
-// model drawn square to them keeps them). A box standing turned in the scan's frame has its own box's axes: the vote
-// space is sized by the bounding box in them (vote), and eq. 9's axis rotations are theirs (label).
+// most nearly square to that (within 10 degrees; else the world's x, or y where x is within 30 degrees of it, made
+// square to it), and their cross product; nullopt without a symmetry axis, or where the frame lies within a degree of
+// the world's axes (a model drawn square to them keeps them). A box standing turned in the scan's frame has its own
+// box's axes: the vote space is sized by the bounding box in them (vote), and eq. 9's axis rotations are theirs
+// (label).
 std::optional<Eigen::Matrix3d> object_axes(const SymmetryResult& symmetry);
 
 // Votes modulo the source's continuous symmetry about `axis`: every vote Q (target -> source) is replaced by the
