@@ -196,6 +196,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
       {"rigid", {{"rotation", rotation_json(m.rigid.rotation)}, {"translation", json_vec(m.rigid.translation)}}},
       {"rigid_rms", m.rigid_rms},
       {"kept_input_pose", m.kept_input_pose},
+      {"turned_in_place", m.turned_in_place},
       {"laid_on_axis", m.laid_on_axis},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},

@@ -284,9 +284,10 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}; {} of {} exemplar samples matched, RMS {:.4g} "
             "after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
-            c->map.kept_input_pose ? " (ICP's, not taken: the scan's relief pulled it off the template)"
-            : c->map.laid_on_axis  ? " (the scan's own axis of revolution laid on the template's)"
-                                   : "",
+            c->map.kept_input_pose   ? " (ICP's, not taken: the scan's relief pulled it off the template)"
+            : c->map.turned_in_place ? " (ICP's turn about the template's centroid: the scan's relief pulled its move)"
+            : c->map.laid_on_axis    ? " (the scan's own axis of revolution laid on the template's)"
+                                     : "",
             c->map.matched, E.size(), c->map.deformed_rms);
     for (size_t i = 0; i < c->map.deformation_solves.size(); ++i) {
       const SolverSummary& s = c->map.deformation_solves[i];
@@ -519,7 +520,7 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              coverage ? &coverage->cover.covered : nullptr,
                              &parts,
                              mirror_axis ? &*mirror_axis : nullptr,
-                             coverage && (!state.config.correspond.rigid || map.kept_input_pose),
+                             coverage && (!state.config.correspond.rigid || map.kept_input_pose || map.turned_in_place),
                              coverage ? std::optional<Eigen::Vector3d>(analogy->supports->up) : std::nullopt};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};

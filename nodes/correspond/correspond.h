@@ -2,17 +2,18 @@
 //
 // The exemplar samples are registered to the source samples, rigidly first (trimmed point-to-plane ICP from the
 // given, roughly aligned pose; the given pose itself where ICP only slides the scan between its relief and the
-// ground, or cuts a template that bounds the scan as given through it: kept_input_pose; where both are bodies of
-// revolution that ICP lays askew, a vase in a plain cylinder, the scan's own axis laid on the template's:
-// laid_on_axis), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of deformation nodes,
-// each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations assembled in parallel
-// and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration alternates with an
-// assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight (1 - n_e . n_s))
-// on a sparse graph of each exemplar sample's `candidates` nearest source samples, plus an escape arc (left unmatched
-// at the cost of escape_distance alpha), solved exactly as a min-cost flow (LEMON NetworkSimplex, integer costs). A
-// source sample may take up to `many_to_one` exemplar samples, so partial and many-to-one matching are allowed. The
-// deformation's stiffness starts at `stiffness` and halves every outer iteration. User landmarks (exemplar point ->
-// source point) enter as heavily weighted data terms.
+// ground, or cuts a template that bounds the scan as given through it: kept_input_pose; ICP's turn about the
+// template's centroid where only the relief pulled its move, a template drawn a little turned: turned_in_place; where
+// both are bodies of revolution that ICP lays askew, a vase in a plain cylinder, the scan's own axis laid on the
+// template's: laid_on_axis), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
+// deformation nodes, each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations
+// assembled in parallel and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration
+// alternates with an assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight
+// (1 - n_e . n_s)) on a sparse graph of each exemplar sample's `candidates` nearest source samples, plus an escape arc
+// (left unmatched at the cost of escape_distance alpha), solved exactly as a min-cost flow (LEMON NetworkSimplex,
+// integer costs). A source sample may take up to `many_to_one` exemplar samples, so partial and many-to-one matching
+// are allowed. The deformation's stiffness starts at `stiffness` and halves every outer iteration. User landmarks
+// (exemplar point -> source point) enter as heavily weighted data terms.
 //
 // Every source sample ends up matched: one with no exemplar sample of its own takes that of its nearest matched
 // neighbour. Throws InputError when the inputs cannot be registered: too few samples, or no
@@ -78,6 +79,8 @@ struct CorrespondResult {
   Index matched = 0;                          // exemplar samples with a source sample
   double rigid_rms = 0;                       // RMS distance of ICP's trimmed pairs (even where its pose is not kept)
   bool kept_input_pose = false;               // rigid is the identity: ICP's pose was the relief's pull
+  bool turned_in_place = false;               // rigid is ICP's turn about the source's centroid: the relief pulled
+                                              // ICP's move
   bool laid_on_axis = false;                  // rigid lays the scan's own axis of revolution on the source's
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).

@@ -100,8 +100,9 @@ struct SynthesisInputs {
   // Completion: the template's principal axis (its continuous one, else its unique one of highest order), through
   // which a plane may mirror the exemplar onto itself; null for none.
   const TurningPart* mirror_axis = nullptr;
-  // Completion: no registration moved the scan (`correspond.rigid` off, or ICP's pose not taken): it stands on the
-  // template as given, so no registration offset is fitted, and fits may not carry pinned regions off the template.
+  // Completion: no registration moved the scan (`correspond.rigid` off, or ICP's pose not taken, or only its turn
+  // taken, about the template's centroid): it stands on the template as given, so no registration offset is fitted,
+  // and fits may not carry pinned regions off the template.
   bool scan_as_given = false;
   // Completion: the object's up (support's). A flip that turns it end over end on a region without slippable motion
   // (a prism's back and floor) is pinned to the template by its free fit, as a flip across the axis it turns about is.
