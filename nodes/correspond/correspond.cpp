@@ -252,10 +252,7 @@ bool pushed_through_its_bounding_template(const Placement& own, const Placement&
          (own.inside <= kBoundsAsGiven && registered.inside >= kCutThrough);
 }
 
-// The turn about `centre` that lays the layer of the scan `pose` puts on the template (its samples within about
-// kLayerWidth spacings of it, by a Gaussian weight) flat on it, from `pose`'s: linearised point-to-plane steps on the
-// pairs whose normals agree (kTrustedAgreement), along the turns they constrain. ICP's turn is the relief's as well
-// as the template's: the ribbed box from the front, in its box drawn turned 5 degrees, was turned 4.45.
+// The layer's half-width (Gaussian sigma) in spacings, and the most steps that turn the scan flat on it.
 constexpr double kLayerWidth = 0.5;
 constexpr int kLayerSteps = 10;
 constexpr double kConstrained = 0.02;  // of the largest eigenvalue: a motion the pairs constrain
@@ -272,6 +269,10 @@ Eigen::Vector3d solved_where_constrained(const Eigen::Matrix3d& A, const Eigen::
   return x;
 }
 
+// The turn about `centre` that lays the layer of the scan `pose` puts on the template (its samples within about
+// kLayerWidth spacings of it, by a Gaussian weight) flat on it, from `pose`'s: linearised point-to-plane steps on the
+// pairs whose normals agree (kTrustedAgreement), along the turns they constrain. ICP's turn is the relief's as well
+// as the template's: the ribbed box from the front, in its box drawn turned 5 degrees, was turned 4.45.
 Similarity turned_flat_on_its_layer(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                                     const Eigen::Vector3d& centre, Similarity pose, double spacing) {
   if (!exemplar.has_normals() || !source.has_normals()) return pose;
@@ -353,12 +354,12 @@ Similarity centred_where_unpinned(const PointSet& exemplar, const PointSet& sour
 }
 
 // ICP's turn made about the template's centroid: the scan as given, turned in place, then turned flat on the layer
-// that puts on the template. A template drawn a little turned about its own centre (a user's box, 5 degrees about
-// the vertical) turns the scan, and ICP's turn is nearly right; but its move is the relief's pull as above, and ICP
-// turns about the scan's centroid, so a scan that sees one face and its lid also slides along their common edge: the
-// ribbed box from the front, its long side's ribs 2.2 cm proud, was registered 2.0 cm off (the box's own 5 degrees
-// about its centre moves nothing), and every turned image landed twice that off the unseen sides (F 0.54 from the
-// front, 0.52 from the side; 0.95 and 0.97 turned in place).
+// that pose lays on the template and centred where no face pins it. A template drawn a little turned about its own
+// centre (a user's box, 5 degrees about the vertical) turns the scan, and ICP's turn is nearly right; but its move is
+// the relief's pull as above, and ICP turns about the scan's centroid, so a scan that sees one face and its lid also
+// slides along their common edge: the ribbed box from the front, its long side's ribs 2.2 cm proud, was registered 2.0
+// cm off (the box's own 5 degrees about its centre moves nothing), and every turned image landed twice that off the
+// unseen sides (F 0.54 from the front, 0.52 from the side; 0.95 and 0.97 turned in place).
 Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                            const Similarity& icp_pose, double spacing) {
   const Eigen::Vector3d centre = source.positions().rowwise().mean();
@@ -371,9 +372,9 @@ Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, con
 // than a relief turns it, on the scan as given turned in place by ICP's turn (turned_in_place). A round template is
 // not turned in place: a turn about its axis is its own, and onto_template_axis lays a round scan's axis on it; on the
 // sweep, turning in place moved its runs both ways (the 24-gon column's unseen-detail 0.96 -> 1.00, the Vase-Lion
-// with `revolution:` of its scan from one seed-2027 view F 0.512 -> 0.455). Turned in place, a
-// template that bounds the scan and that ICP's pose pushes a tenth of it through is the hull its relief is sunk in, as
-// given (stop 54's rule, measured on 229 runs) only where ICP cuts the template through it.
+// with `revolution:` of its scan from one seed-2027 view F 0.512 -> 0.455). Turned in place, a template that bounds
+// the scan is the hull its relief is sunk in wherever ICP's pose pushes a tenth of the scan through it; as given, only
+// where ICP's pose cuts it through (stop 54's rule, measured on 229 runs).
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                                       bool round_template, double spacing, const CorrespondOptions& o,
                                       CorrespondResult& r) {
