@@ -154,6 +154,23 @@ Placement placement_on_source(const PointSet& exemplar, const PointSet& source, 
   return {double(on) / n, double(outside) / n, double(inside) / n};
 }
 
+// Exemplar sample i moved by q, against its nearest source sample: where it lands, that sample's normal, its height
+// over that sample's tangent plane, and the cosine between its own normal, moved, and that one. Both need normals.
+struct AgainstNearest {
+  Eigen::Vector3d point, normal;
+  double height, agreement;
+};
+
+AgainstNearest against_nearest(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
+                               const Similarity& q, Index i) {
+  const Eigen::Vector3d p = q.apply(exemplar.positions().col(i));
+  std::int32_t s;
+  double d2;
+  tree.knn(p, 1, &s, &d2);
+  const Eigen::Vector3d n = source.normals().col(s);
+  return {p, n, n.dot(p - source.positions().col(s)), q.apply_normal(exemplar.normals().col(i)).dot(n)};
+}
+
 // The thickness of the exemplar's relief over the source as q lays it: the spread between the 5th and 95th percentiles
 // of the samples' heights over the plane of their nearest source sample, where the two normals agree within 37 degrees
 // (not an edge's other face). Registered between its relief and its ground, a scan's heights span both layers; a
@@ -163,13 +180,8 @@ double relief_thickness(const PointSet& exemplar, const PointSet& source, const 
   std::vector<double> heights;
   heights.reserve(size_t(exemplar.size()));
   for (Index i = 0; i < exemplar.size(); ++i) {
-    const Eigen::Vector3d p = q.apply(exemplar.positions().col(i));
-    std::int32_t s;
-    double d2;
-    tree.knn(p, 1, &s, &d2);
-    const Eigen::Vector3d n = source.normals().col(s);
-    if (std::abs(n.dot(q.apply_normal(exemplar.normals().col(i)))) < 0.8) continue;
-    heights.push_back(n.dot(p - source.positions().col(s)));
+    const AgainstNearest a = against_nearest(exemplar, source, tree, q, i);
+    if (std::abs(a.agreement) >= 0.8) heights.push_back(a.height);
   }
   if (heights.size() < 20) return 0;
   const auto at = [&](double f) {
@@ -281,16 +293,12 @@ Similarity turned_flat_on_its_layer(const PointSet& exemplar, const PointSet& so
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     for (Index i = 0; i < exemplar.size(); ++i) {
-      const Eigen::Vector3d p = pose.apply(exemplar.positions().col(i));
-      std::int32_t s;
-      double d2;
-      tree.knn(p, 1, &s, &d2);
-      const Eigen::Vector3d n = source.normals().col(s);
-      if (pose.apply_normal(exemplar.normals().col(i)).dot(n) < kTrustedAgreement) continue;
-      const double h = n.dot(p - source.positions().col(s)), w = std::exp(-0.5 * h * h / width2);
-      const Eigen::Vector3d a = (p - centre).cross(n);
+      const AgainstNearest on = against_nearest(exemplar, source, tree, pose, i);
+      if (on.agreement < kTrustedAgreement) continue;
+      const double w = std::exp(-0.5 * on.height * on.height / width2);
+      const Eigen::Vector3d a = (on.point - centre).cross(on.normal);
       A += w * a * a.transpose();
-      b -= w * h * a;
+      b -= w * on.height * a;
     }
     const Eigen::Vector3d turn = solved_where_constrained(A, b);
     const Eigen::Matrix3d R = turn.norm() > 0 ? Eigen::AngleAxisd(turn.norm(), turn.normalized()).toRotationMatrix()
@@ -338,11 +346,8 @@ Similarity centred_where_unpinned(const PointSet& exemplar, const PointSet& sour
   if (!exemplar.has_normals() || !source.has_normals()) return pose;
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   for (Index i = 0; i < exemplar.size(); ++i) {
-    std::int32_t s;
-    double d2;
-    tree.knn(pose.apply(exemplar.positions().col(i)), 1, &s, &d2);
-    const Eigen::Vector3d n = source.normals().col(s);
-    if (pose.apply_normal(exemplar.normals().col(i)).dot(n) >= kTrustedAgreement) A += n * n.transpose();
+    const AgainstNearest on = against_nearest(exemplar, source, tree, pose, i);
+    if (on.agreement >= kTrustedAgreement) A += on.normal * on.normal.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
   const double largest = eig.eigenvalues().maxCoeff();
