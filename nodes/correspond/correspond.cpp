@@ -206,31 +206,31 @@ bool cut_through_its_bounding_template(const Placement& as_given, const Placemen
   return as_given.lesser_side() <= kBoundsAsGiven && as_given.on >= kTouches && registered.lesser_side() >= kCutThrough;
 }
 
-// Whether ICP's pose is the relief's pull on a scan whose own pose is `own`: it moves the scan by less than the
-// relief's pull, turns it by less than the relief's turn (both above), and puts less of it on the template than `own`
-// does. A scan whose relief covers much of what it saw has no pose that puts all of it on a plain template: ICP settles
-// between the relief and the ground it stands on, off both, and every turned image of the scan then lands off the
-// template by twice that (the crate seen square on its front: one face, half of it 2 cm of raised frame and diamond,
-// registered 1.1 cm (1.1 spacings) off, its opposite face turned onto the template 2.1 cm inside it; 47% of the scan on
-// the template as given, 15% as registered). A larger motion is a registration: the same scan moved 1.5 cm and 2
-// degrees off has 24% on the template, ICP's pose 16% (between layers; 2.0 spacings, 2.1 degrees), and ICP's is right.
-// So a scan moved less than the relief's pull keeps its own pose, as a scanner's registered output or a virtual scan
-// needs; a gear seen edge-on, tilted 1.9 degrees by its teeth, is still registered by ICP (`correspond.rigid: false`
-// keeps a registered scan's pose whole). Relief deeper than that pulls further: a ribbed box seen from above, inside a
-// `box:` template that touches its ribs' tops (2.2 cm, 2.4 spacings, of relief on the two sides it sees), was slid 1.7
-// cm outwards by ICP, 39% of it on the template against 56% as given, and every turned image landed twice that off the
-// unseen sides (F 0.742); registered between its layers, its heights span 2.7 spacings. And it turns further: the same
-// box seen square on its long side from a little below, inside its 8-vertex template, was turned 0.83 degrees (2.2
-// spacings) by the ribs and plinth, 13% of it on the template against 60% as given (F 0.661). The moved crate above is
-// not grounded (24% as given): its 2.1 degrees and 2 cm lie within its relief's 2.1 cm, and only ICP's pose is right.
-// The ribbed box seen from below in its `box:`, turned 0.84 degrees and moved 3.0 spacings at its far end by a
-// relief 2.9 spacings thick, keeps its pose (F 0.630 -> 0.919). A scan its template bounds keeps its pose however far
-// ICP moved it, where that pose cuts the template through it (cut_through_its_bounding_template): the scanned pillar,
-// whose panels lie 10 spacings inside its `box:`, moved 5 spacings and turned 1.8 degrees from above with 36% of it on
-// the box either way.
+// Whether ICP's pose is the relief's pull on a scan whose own pose is `own` (`as_given`: where it lays the scan on the
+// template): it moves the scan by less than the relief's pull, turns it by less than the relief's turn (both above),
+// and puts less of it on the template than `own` does. A scan whose relief covers much of what it saw has no pose that
+// puts all of it on a plain template: ICP settles between the relief and the ground it stands on, off both, and every
+// turned image of the scan then lands off the template by twice that (the crate seen square on its front: one face,
+// half of it 2 cm of raised frame and diamond, registered 1.1 cm (1.1 spacings) off, its opposite face turned onto the
+// template 2.1 cm inside it; 47% of the scan on the template as given, 15% as registered). A larger motion is a
+// registration: the same scan moved 1.5 cm and 2 degrees off has 24% on the template, ICP's pose 16% (between
+// layers; 2.0 spacings, 2.1 degrees), and ICP's is right. So a scan moved less than the relief's pull keeps its own
+// pose, as a scanner's registered output or a virtual scan needs; a gear seen edge-on, tilted 1.9 degrees by its teeth,
+// is still registered by ICP (`correspond.rigid: false` keeps a registered scan's pose whole). Relief deeper than that
+// pulls further: a ribbed box seen from above, inside a `box:` template that touches its ribs' tops (2.2 cm, 2.4
+// spacings, of relief on the two sides it sees), was slid 1.7 cm outwards by ICP, 39% of it on the template against 56%
+// as given, and every turned image landed twice that off the unseen sides (F 0.742); registered between its layers, its
+// heights span 2.7 spacings. And it turns further: the same box seen square on its long side from a little below,
+// inside its 8-vertex template, was turned 0.83 degrees (2.2 spacings) by the ribs and plinth, 13% of it on the
+// template against 60% as given (F 0.661). The moved crate above is not grounded (24% as given): its 2.1 degrees and 2
+// cm lie within its relief's 2.1 cm, and only ICP's pose is right. The ribbed box seen from below in its `box:`, turned
+// 0.84 degrees and moved 3.0 spacings at its far end by a relief 2.9 spacings thick, keeps its pose (F 0.630 -> 0.919).
+// A scan its template bounds keeps its pose however far ICP moved it, where that pose cuts the template through it
+// (cut_through_its_bounding_template): the scanned pillar, whose panels lie 10 spacings inside its `box:`, moved 5
+// spacings and turned 1.8 degrees from above with 36% of it on the box either way.
 bool relief_pulled_from(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
-                        const Similarity& own, const Similarity& icp_pose, const Placement& registered) {
-  const Placement as_given = placement_on_source(exemplar, source, tree, own, spacing);
+                        const Similarity& own, const Placement& as_given, const Similarity& icp_pose,
+                        const Placement& registered) {
   if (cut_through_its_bounding_template(as_given, registered)) return true;
   const bool off_its_ground = as_given.on >= kGrounded && registered.on <= kOffGround * as_given.on;
   const double thickness = off_its_ground ? relief_thickness(exemplar, source, tree, icp_pose) : 0.0;
@@ -385,15 +385,16 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
                                       CorrespondResult& r) {
   const Similarity icp_pose = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
   const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
-  if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, icp_pose, registered)) {
+  const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
+  if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered)) {
     r.kept_input_pose = true;
     return Similarity{};
   }
   if (round_template) return icp_pose;
   const Similarity in_place = turned_in_place(exemplar, source, tree, icp_pose, spacing);
-  if (pushed_through_its_bounding_template(placement_on_source(exemplar, source, tree, in_place, spacing),
-                                           registered) ||
-      relief_pulled_from(exemplar, source, tree, spacing, in_place, icp_pose, registered)) {
+  const Placement placed = placement_on_source(exemplar, source, tree, in_place, spacing);
+  if (pushed_through_its_bounding_template(placed, registered) ||
+      relief_pulled_from(exemplar, source, tree, spacing, in_place, placed, icp_pose, registered)) {
     r.turned_in_place = true;
     return in_place;
   }
