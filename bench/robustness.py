@@ -9,10 +9,12 @@ median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
                                       [--set KEY=VALUE]... [--check-floors] [--random-views N [--view-seed S]]
-                                      [--noise SHARE]
+                                      [--noise SHARE] [--resolution N]
 
 --noise gives the virtual scans range noise (Gaussian along each ray, seeded) of SHARE times the model's diagonal, as a
 real scanner's: 0.003 is about a third of the F-score's threshold.
+--resolution sets the virtual scanner's image (N by N rays; 480 by default): 160 gives a sparse scan of some 6000
+points, sparser than the template's samples, whose points are then used as they are (unevenly dense).
 With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
 each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
 
@@ -132,7 +134,7 @@ def yaml_list(v):
     return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
 
 
-def completion_case(exe, work, shape, model, template, view, preset, up="z", noise=0.0):
+def completion_case(exe, work, shape, model, template, view, preset, up="z", noise=0.0, resolution=480):
     name = f"{shape} | {template.split(':')[-1]} | {view}"
     tag = "".join(c if c.isalnum() else "_" for c in name)
     d = os.path.join(work, tag)
@@ -142,7 +144,7 @@ def completion_case(exe, work, shape, model, template, view, preset, up="z", noi
     scan = os.path.join(d, "scan.ply")
     sensor = ["--noise", f"{noise * math.dist(*bbox):.9g}", "--seed", "1"] if noise > 0 else []
     run([exe, "scan", "--input", model, "--output", scan, "--eye", ",".join(map(str, eye)), "--target",
-         ",".join(map(str, centre)), "--resolution", "480,480", "--fov", "30"] + sensor)
+         ",".join(map(str, centre)), "--resolution", f"{resolution},{resolution}", "--fov", "30"] + sensor)
     if template == "revolution:SCAN":
         template = "revolution:" + scan
     cfg = os.path.join(d, "config.yaml")
@@ -253,6 +255,8 @@ def main():
     ap.add_argument("--view-seed", type=int, default=2026, help="seed of --random-views")
     ap.add_argument("--noise", type=float, default=0.0, metavar="SHARE",
                     help="range noise of the virtual scans (sigma along the ray) as a share of the model's diagonal")
+    ap.add_argument("--resolution", type=int, default=480, metavar="N",
+                    help="the virtual scanner's image, N by N rays (a sparse scan: 160)")
     args = ap.parse_args()
     if args.random_views > 0:
         VIEWS.clear()
@@ -295,7 +299,7 @@ def main():
             if case[0] == "completion":
                 _, shape, model, template, view, up = case
                 name, cfg, out_dir, eval_args = completion_case(exe, args.out, shape, model, template, view,
-                                                                args.preset, up, args.noise)
+                                                                args.preset, up, args.noise, args.resolution)
             else:
                 _, shape, source, target, exemplar, styled = case
                 name = shape
