@@ -81,6 +81,20 @@ TEST(Features, PlaneHasZeroCurvatureAndOneNormal) {
   EXPECT_GT(f.points.normals().row(2).minCoeff(), 1 - 1e-9);
 }
 
+// A lid seen at a grazing angle at a low resolution: scan rows 10 cm apart, 2 mm between points along each, so that
+// every point's neighbours lie on its own row and PCA cannot tell the normal's turn about the row. The scanner's own
+// normals (up) stand there; the PCA normal alone faced anywhere square to the row.
+TEST(Features, ScanRowsWhoseNeighboursLieOnALineKeepTheInputsNormals) {
+  const int rows = 8, per_row = 150;
+  Eigen::Matrix3Xd p(3, rows * per_row);
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < per_row; ++i) p.col(r * per_row + i) = Eigen::Vector3d(0.002 * i, 0.1 * r, 0.6);
+  PointSet scan(p);
+  scan.set_normals(Eigen::Matrix3Xd(Eigen::Vector3d::UnitZ().replicate(1, p.cols())));
+  const FeaturesResult f = estimate_features(scan, {});
+  EXPECT_GT(f.points.normals().row(2).minCoeff(), std::cos(1.0 * M_PI / 180));
+}
+
 TEST(Features, ViewpointOrientationFacesTheSensor) {
   PointSet cloud(samples_of(make_plane(1.0, 16), 2000).positions());
   cloud.set_viewpoint(Eigen::Vector3d(0.2, 0.1, -3.0));
