@@ -255,12 +255,49 @@ struct Neighbourhoods {
 };
 
 // Neighbours this nearly on a line (the covariance's middle eigenvalue under this share of its largest) leave the PCA
-// normal undetermined about the line: a single scan row, as a grazing view of a lid gives, rows 10 cm apart at 2 mm
-// along each. There the input's own normal, where it has one, stands.
+// normal undetermined about the line: a single scan row, as a grazing view of a lid gives (the ribbed box's lid from
+// the front in a 160 by 160 scan: rows 11 cm apart, 3 mm between points along each). There the input's own normal,
+// where it has one, stands; else the PCA of kWiden times as many neighbours, where they reach the next rows.
 constexpr double kCollinear = 0.01;
+constexpr int kWiden = 8;
+
+struct PcaNormal {
+  Eigen::Vector3d normal;
+  bool on_a_line;
+};
+
+PcaNormal pca_normal(const Eigen::Matrix3Xd& P, const std::int32_t* nb, int count) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int a = 0; a < count; ++a) mean += P.col(nb[a]);
+  mean /= count;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < count; ++a) {
+    const Eigen::Vector3d d = P.col(nb[a]) - mean;
+    cov.noalias() += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov);
+  return {eig.eigenvectors().col(0), eig.eigenvalues()(1) < kCollinear * eig.eigenvalues()(2)};
+}
 
 bool has_own_normal(const PointSet& input, Index i) {
   return input.has_normals() && input.normals().col(i).squaredNorm() > 0.25;
+}
+
+// Per-thread buffers of the wider neighbourhood.
+struct WideNeighbours {
+  std::vector<std::int32_t> nb;
+  std::vector<double> d2;
+};
+
+// The normal at point i, whose k neighbours lie on a line (`on_line`, their PCA normal).
+Eigen::Vector3d normal_off_the_line(const PointSet& input, const KdTree& tree, Index i, const Eigen::Vector3d& on_line,
+                                    WideNeighbours& wide) {
+  if (has_own_normal(input, i)) return input.normals().col(i).normalized();
+  const int count = int(wide.nb.size());
+  tree.knn(input.positions().col(i), count, wide.nb.data(), wide.d2.data());
+  const PcaNormal w = pca_normal(input.positions(), wide.nb.data(), count);
+  return w.on_a_line ? on_line : w.normal;
 }
 
 Neighbourhoods pca_normals(const PointSet& input, const KdTree& tree, int k) {
@@ -273,27 +310,16 @@ Neighbourhoods pca_normals(const PointSet& input, const KdTree& tree, int k) {
   knn.resize(size_t(n * k));
   radius.resize(static_cast<size_t>(n));
   N.resize(3, n);
+  const size_t wide_count = size_t(std::min<Index>(n, Index(kWiden) * k));
   tbb::parallel_for(tbb::blocked_range<Index>(0, n, kGrain), [&](const tbb::blocked_range<Index>& r) {
     std::vector<double> d2(static_cast<size_t>(k));
+    WideNeighbours wide{std::vector<std::int32_t>(wide_count), std::vector<double>(wide_count)};
     for (Index i = r.begin(); i != r.end(); ++i) {
       std::int32_t* nb = &knn[size_t(i * k)];
       tree.knn(P.col(i), k, nb, d2.data());
       radius[size_t(i)] = std::sqrt(d2[size_t(k - 1)]);
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int a = 0; a < k; ++a) mean += P.col(nb[a]);
-      mean /= k;
-      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      for (int a = 0; a < k; ++a) {
-        const Eigen::Vector3d d = P.col(nb[a]) - mean;
-        cov.noalias() += d * d.transpose();
-      }
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-      eig.computeDirect(cov);
-      const bool on_a_line = eig.eigenvalues()(1) < kCollinear * eig.eigenvalues()(2);
-      if (on_a_line && has_own_normal(input, i))
-        N.col(i) = input.normals().col(i).normalized();
-      else
-        N.col(i) = eig.eigenvectors().col(0);
+      const PcaNormal pca = pca_normal(P, nb, k);
+      N.col(i) = pca.on_a_line ? normal_off_the_line(input, tree, i, pca.normal, wide) : pca.normal;
     }
   });
   return out;
