@@ -256,8 +256,8 @@ struct Neighbourhoods {
 
 // Neighbours this nearly on a line (the covariance's middle eigenvalue under this share of its largest) leave the PCA
 // normal undetermined about the line: a single scan row, as a grazing view of a lid gives (the ribbed box's lid from
-// the front in a 160 by 160 scan: rows 11 cm apart, 3 mm between points along each). There the input's own normal,
-// where it has one, stands; else the PCA of kWiden times as many neighbours, where they reach the next rows.
+// the front in a 160 by 160 scan: rows 11 cm apart, 3 mm between points along each). There the PCA of kWiden times as
+// many neighbours, which reach the next rows, stands; else the input's own normal, where it has one.
 constexpr double kCollinear = 0.01;
 constexpr int kWiden = 8;
 
@@ -290,14 +290,16 @@ struct WideNeighbours {
   std::vector<double> d2;
 };
 
-// The normal at point i, whose k neighbours lie on a line (`on_line`, their PCA normal).
+// The normal at point i, whose k neighbours lie on a line (`on_line`, their PCA normal): the wider neighbourhood's
+// PCA, which agrees with its neighbours' (a normal of another kind beside them bends the curvature fit), else the
+// input's own normal.
 Eigen::Vector3d normal_off_the_line(const PointSet& input, const KdTree& tree, Index i, const Eigen::Vector3d& on_line,
                                     WideNeighbours& wide) {
-  if (has_own_normal(input, i)) return input.normals().col(i).normalized();
   const int count = int(wide.nb.size());
   tree.knn(input.positions().col(i), count, wide.nb.data(), wide.d2.data());
   const PcaNormal w = pca_normal(input.positions(), wide.nb.data(), count);
-  return w.on_a_line ? on_line : w.normal;
+  if (!w.on_a_line) return w.normal;
+  return has_own_normal(input, i) ? Eigen::Vector3d(input.normals().col(i).normalized()) : on_line;
 }
 
 Neighbourhoods pca_normals(const PointSet& input, const KdTree& tree, int k) {

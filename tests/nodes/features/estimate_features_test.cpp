@@ -83,7 +83,8 @@ TEST(Features, PlaneHasZeroCurvatureAndOneNormal) {
 
 // A lid seen at a grazing angle at a low resolution: scan rows 10 cm apart, 2 mm between points along each, so that
 // every point's neighbours lie on its own row and PCA cannot tell the normal's turn about the row. The scanner's own
-// normals (up) stand there, or a wider neighbourhood's; the PCA normal alone faced anywhere square to the row.
+// A wider neighbourhood's PCA normal stands there, or, on a row alone, the scanner's own; the PCA normal of the k
+// neighbours alone faced anywhere square to the row.
 TEST(Features, ScanRowsWhoseNeighboursLieOnALineKeepTheInputsNormals) {
   const int rows = 8, per_row = 150;
   Eigen::Matrix3Xd p(3, rows * per_row);
@@ -96,6 +97,10 @@ TEST(Features, ScanRowsWhoseNeighboursLieOnALineKeepTheInputsNormals) {
   // Without the scanner's normals (a bare XYZ cloud), a wider neighbourhood reaches the next rows.
   const FeaturesResult bare = estimate_features(PointSet(p), {});
   EXPECT_GT(bare.points.normals().row(2).cwiseAbs().minCoeff(), std::cos(1.0 * M_PI / 180));
+  // One row alone, which no neighbourhood widens off its line: the scanner's normals stand.
+  PointSet row(Eigen::Matrix3Xd(p.leftCols(per_row)));
+  row.set_normals(Eigen::Matrix3Xd(Eigen::Vector3d::UnitZ().replicate(1, per_row)));
+  EXPECT_GT(estimate_features(row, {}).points.normals().row(2).minCoeff(), std::cos(1.0 * M_PI / 180));
 }
 
 TEST(Features, ViewpointOrientationFacesTheSensor) {
