@@ -377,24 +377,55 @@ Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, con
                                 turned_flat_on_its_layer(exemplar, source, tree, centre, in_place, spacing), spacing);
 }
 
+// A turn about the axis that lays no rotational symmetry of a polygon of up to 24 sides onto itself (a 24-gon's
+// facets are 15 degrees apart), and the share of the template's samples it must leave on the template.
+constexpr double kSymmetryProbe = 37.0 * M_PI / 180;
+constexpr double kOnItself = 0.9;
+
+// Whether the template, turned about its axis, lies on itself: a body of revolution, or a polygon of so many sides
+// that a facet's sagitta is under half a spacing. Normals meeting an axis do not show it: a sphere with bumps has
+// them, and its bumps pin every turn.
+bool turned_onto_itself(const PointSet& source, const KdTree& tree, const RevolutionAxis& axis, double spacing) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(kSymmetryProbe, axis.direction).toRotationMatrix();
+  const double on = placement_on_source(source, source, tree, {R, axis.centre - R * axis.centre, 1.0}, spacing).on;
+  return on >= kOnItself;
+}
+
+// `pose` turned back about the round template's axis by the turn it makes about it (the twist of its rotation about
+// the axis's direction; the rest, the swing, tilts the axis). A turn about a body of revolution's axis is its own
+// symmetry: it lays the scan on the template as well whatever its angle, so only the scan's relief sets ICP's, and the
+// scan's own phase is the one its unseen side is measured in.
+Similarity without_turn_about(const Similarity& pose, const RevolutionAxis& axis) {
+  const Eigen::Quaterniond q(pose.rotation);
+  const Eigen::Vector3d along = q.vec().dot(axis.direction) * axis.direction;
+  Eigen::Quaterniond twist(q.w(), along.x(), along.y(), along.z());
+  if (twist.norm() < 1e-9) return pose;  // a half turn about a line across the axis: no twist to take out
+  twist.normalize();
+  const Eigen::Matrix3d back = twist.conjugate().toRotationMatrix();
+  return Similarity{back, axis.centre - back * axis.centre, 1.0}.compose(pose);
+}
+
 // ICP's pose, unless it is the relief's pull on the scan as given (kept_input_pose) or, turning the scan further
 // than a relief turns it, on the scan as given turned in place by ICP's turn (turned_in_place). A round template is
 // not turned in place: a turn about its axis is its own, and onto_template_axis lays a round scan's axis on it; on the
 // sweep, turning in place moved its runs both ways (the 24-gon column's unseen-detail 0.96 -> 1.00, the Vase-Lion
 // with `revolution:` of its scan from one seed-2027 view F 0.512 -> 0.455). Turned in place, a template that bounds
 // the scan is the hull its relief is sunk in wherever ICP's pose pushes a tenth of the scan through it; as given, only
-// where ICP's pose cuts it through (stop 54's rule, measured on 229 runs).
+// where ICP's pose cuts it through (stop 54's rule, measured on 229 runs). ICP's turn about the axis of a template
+// that turned lies on itself is taken out first (without_turn_about).
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
-                                      bool round_template, double spacing, const CorrespondOptions& o,
-                                      CorrespondResult& r) {
-  const Similarity icp_pose = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+                                      const std::optional<RevolutionAxis>& round, double spacing,
+                                      const CorrespondOptions& o, CorrespondResult& r) {
+  const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  const bool symmetric = round && turned_onto_itself(source, tree, *round, spacing);
+  const Similarity icp_pose = symmetric ? without_turn_about(icp_fit, *round) : icp_fit;
   const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
   const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
   if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered)) {
     r.kept_input_pose = true;
     return Similarity{};
   }
-  if (round_template) return icp_pose;
+  if (round) return icp_pose;
   const Similarity in_place = turned_in_place(exemplar, source, tree, icp_pose, spacing);
   const Placement placed = placement_on_source(exemplar, source, tree, in_place, spacing);
   if (pushed_through_its_bounding_template(placed, registered) ||
@@ -700,7 +731,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
   // Rigid registration, then the overlap check.
   if (o.rigid) {
     const std::optional<RevolutionAxis> round = axis_of_round_template(source);
-    r.rigid = registration_or_input_pose(exemplar, source, tree, round.has_value(), spacing, o, r);
+    r.rigid = registration_or_input_pose(exemplar, source, tree, round, spacing, o, r);
     if (const auto laid = round ? onto_template_axis(exemplar, source, r.rigid, *round, spacing) : std::nullopt) {
       r.rigid = *laid;
       r.kept_input_pose = r.turned_in_place = false;
