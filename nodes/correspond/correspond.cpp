@@ -393,8 +393,12 @@ bool turned_onto_itself(const PointSet& source, const KdTree& tree, const Revolu
 
 // `pose` turned back about the round template's axis by the turn it makes about it (the twist of its rotation about
 // the axis's direction; the rest, the swing, tilts the axis). A turn about a body of revolution's axis is its own
-// symmetry: it lays the scan on the template as well whatever its angle, so only the scan's relief sets ICP's, and the
-// scan's own phase is the one its unseen side is measured in.
+// symmetry: it lays the scan on the template as well at any angle, so only the scan's relief sets ICP's, and it must
+// not count as a turn against the relief's in relief_pulled_from. The sparse fluted column seen from its side, turned
+// 1.86 degrees about the axis and pulled 6 mm towards the sensor by its flutes, kept ICP's pose (its relief's turn is
+// 1.1 degrees), and its images turned about the axis landed up to twice 6 mm off: 5% of its synthesised points beyond
+// the F-score's threshold. Without the turn, the relief's pull alone is left, and the scan keeps its own pose (none
+// beyond; F 0.957 -> 0.998).
 Similarity without_turn_about(const Similarity& pose, const RevolutionAxis& axis) {
   const Eigen::Quaterniond q(pose.rotation);
   const Eigen::Vector3d along = q.vec().dot(axis.direction) * axis.direction;
