@@ -956,6 +956,7 @@ const std::vector<std::string>& shape_names() {
                                "medallion_prism", "prism_template",
                                "medallion_barrel", "barrel_template",
                                "box8",            "column_template24",
+                               "column_template8",
                                "disk_pair",       "disk_pair_scaled",
                                "gear_pair",       "gear_pair_scaled"};
     // clang-format on
@@ -1001,6 +1002,7 @@ PointSet make_shape(const std::string& name) {
   if (name == "barrel_template") return make_medallion_barrel(false);
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
   if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
+  if (name == "column_template8") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 8);
   if (name == "disk_pair") return make_disk_pair(1.0, false);
   if (name == "disk_pair_scaled") return make_disk_pair(0.7, false);
   if (name == "gear_pair") return make_disk_pair(1.0, true);
