@@ -23,6 +23,7 @@
 #include "nodes/io/read_pp.h"
 #include "nodes/procedural/normal_axis.h"
 #include "nodes/sample/sample.h"
+#include "nodes/symmetry/symmetry.h"
 
 namespace scanfill {
 namespace {
@@ -391,24 +392,6 @@ bool turned_onto_itself(const PointSet& source, const KdTree& tree, const Revolu
   return on >= kOnItself;
 }
 
-// `pose` turned back about the round template's axis by the turn it makes about it (the twist of its rotation about
-// the axis's direction; the rest, the swing, tilts the axis). A turn about a body of revolution's axis is its own
-// symmetry: it lays the scan on the template as well at any angle, so only the scan's relief sets ICP's, and it must
-// not count as a turn against the relief's in relief_pulled_from. The sparse fluted column seen from its side, turned
-// 1.86 degrees about the axis and pulled 6 mm towards the sensor by its flutes, kept ICP's pose (its relief's turn is
-// 1.1 degrees), and its images turned about the axis landed up to twice 6 mm off: 5% of its synthesised points beyond
-// the F-score's threshold. Without the turn, the relief's pull alone is left, and the scan keeps its own pose (none
-// beyond; F 0.957 -> 0.998).
-Similarity without_turn_about(const Similarity& pose, const RevolutionAxis& axis) {
-  const Eigen::Quaterniond q(pose.rotation);
-  const Eigen::Vector3d along = q.vec().dot(axis.direction) * axis.direction;
-  Eigen::Quaterniond twist(q.w(), along.x(), along.y(), along.z());
-  if (twist.norm() < 1e-9) return pose;  // a half turn about a line across the axis: no twist to take out
-  twist.normalize();
-  const Eigen::Matrix3d back = twist.conjugate().toRotationMatrix();
-  return Similarity{back, axis.centre - back * axis.centre, 1.0}.compose(pose);
-}
-
 // ICP's pose, unless it is the relief's pull on the scan as given (kept_input_pose) or, turning the scan further
 // than a relief turns it, on the scan as given turned in place by ICP's turn (turned_in_place). A round template is
 // not turned in place: a turn about its axis is its own, and onto_template_axis lays a round scan's axis on it; on the
@@ -416,13 +399,21 @@ Similarity without_turn_about(const Similarity& pose, const RevolutionAxis& axis
 // with `revolution:` of its scan from one seed-2027 view F 0.512 -> 0.455). Turned in place, a template that bounds
 // the scan is the hull its relief is sunk in wherever ICP's pose pushes a tenth of the scan through it; as given, only
 // where ICP's pose cuts it through (stop 54's rule, measured on 229 runs). ICP's turn about the axis of a template
-// that turned lies on itself is taken out first (without_turn_about).
+// that turned lies on itself is taken out first.
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
                                       const std::optional<RevolutionAxis>& round, double spacing,
                                       const CorrespondOptions& o, CorrespondResult& r) {
   const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  // A turn about a body of revolution's axis is its own symmetry: it lays the scan on the template as well at any
+  // angle, so only the scan's relief sets ICP's, and it must not count as a turn against the relief's in
+  // relief_pulled_from. The sparse fluted column seen from its side, turned 1.86 degrees about the axis and pulled 6 mm
+  // towards the sensor by its flutes, kept ICP's pose (its relief's turn is 1.1 degrees), and its images turned about
+  // the axis landed up to twice 6 mm off: 5% of its synthesised points beyond the F-score's threshold. Without the
+  // turn (the member of ICP's pose's family of turns about the axis nearest the identity), the relief's pull alone is
+  // left, and the scan keeps its own pose (none beyond; F 0.957 -> 0.998).
   const bool symmetric = round && turned_onto_itself(source, tree, *round, spacing);
-  const Similarity icp_pose = symmetric ? without_turn_about(icp_fit, *round) : icp_fit;
+  const Similarity icp_pose =
+      symmetric ? nearest_identity_member(icp_fit, {round->centre, round->direction, 0}) : icp_fit;
   const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
   const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
   if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered)) {
