@@ -281,9 +281,13 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
     node_logger("correspond")
         ->info(
-            "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}; {} of {} exemplar samples matched, RMS {:.4g} "
-            "after deformation",
+            "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}{}; {} of {} exemplar samples matched, RMS "
+            "{:.4g} after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
+            c->map.polygon_sides > 0 ? fmt::format(" on the body of revolution through the corners of the template's "
+                                                   "{} sides",
+                                                   c->map.polygon_sides)
+                                     : std::string(),
             c->map.kept_input_pose   ? " (ICP's, not taken: the scan's relief pulled it off the template)"
             : c->map.turned_in_place ? " (ICP's turn about the template's centroid: the scan's relief pulled its move)"
             : c->map.laid_on_axis    ? " (the scan's own axis of revolution laid on the template's)"

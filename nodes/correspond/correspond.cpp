@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <utility>
 
@@ -248,15 +249,6 @@ bool relief_pulled_from(const PointSet& exemplar, const PointSet& source, const 
 // about 0.7 for normals that ignore it).
 constexpr double kRoundTemplate = 0.1;
 
-// The template's axis of revolution, where it is a body of revolution.
-std::optional<RevolutionAxis> axis_of_round_template(const PointSet& source) {
-  const SurfaceElements surface = surface_elements(source);
-  if (surface.size() < 16) return std::nullopt;
-  const RevolutionAxis axis = axis_from_normals(surface);
-  if (normal_axis_misfit(surface, axis) > kRoundTemplate) return std::nullopt;
-  return axis;
-}
-
 // A template that bounds the scan in its own pose (as cut_through_its_bounding_template), where ICP's pose puts a
 // twentieth of the scan on that far side: the relief has pushed the scan through it, or cut it through. One side's
 // rib tops are about that share of a sparse scan of the ribbed box from above (its 160 by 160 scan: 8%, where ICP slid
@@ -392,6 +384,108 @@ bool turned_onto_itself(const PointSet& source, const KdTree& tree, const Revolu
   return on >= kOnItself;
 }
 
+// A low-poly drawing of a body of revolution has this many sides at least (a pentagon; a box's four are its own
+// shape), and at most this many are told apart from a circle.
+constexpr int kFewestSides = 5;
+constexpr int kMostSides = 32;
+
+// Each turn is tried on this many of the template's samples, evenly spread.
+constexpr Index kSideProbes = 2000;
+// A turn lays the template on itself where its samples land, on average, within this share of a spacing of its
+// surface (a hexagon, an octagon and a 12-gon sampled at 20000: 0.02-0.03 by their own turns). A turn near its own
+// lays a polygon nearly as well (a 12-gon turned by 2 pi / 13: 0.13), so its own turn is the one that lays it best,
+// and of those within kOwnTurn of that (a 12-gon's 6-fold turn is one too), the smallest.
+constexpr double kLaysOnItself = 0.1;
+constexpr double kOwnTurn = 0.05;
+
+// The template's samples `probe` turned by `angle` about the axis: their mean distance from the template's surface
+// (the tangent plane of the nearest sample), each at most two spacings.
+double mean_distance_turned(const PointSet& probe, const PointSet& source, const KdTree& tree,
+                            const RevolutionAxis& axis, double angle, double spacing) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, axis.direction).toRotationMatrix();
+  const Similarity q{R, axis.centre - R * axis.centre, 1.0};
+  double sum = 0;
+  for (Index i = 0; i < probe.size(); ++i) {
+    const Eigen::Vector3d p = q.apply(probe.positions().col(i));
+    std::int32_t s;
+    double d2;
+    tree.knn(p, 1, &s, &d2);
+    const double height = std::abs(source.normals().col(s).dot(p - source.positions().col(s)));
+    sum += d2 > 4 * spacing * spacing ? 2 * spacing : std::min(height, 2 * spacing);
+  }
+  return sum / double(std::max<Index>(1, probe.size()));
+}
+
+// The number of sides of a template that is a regular polygon about the axis (a prism, a low-poly cylinder or vase),
+// from kFewestSides to kMostSides: the most sides n whose turn by 2 pi / n lays it on itself best (kOwnTurn); 0 for
+// none.
+int sides_about(const PointSet& source, const KdTree& tree, const RevolutionAxis& axis, double spacing) {
+  const Index m = std::min(source.size(), kSideProbes);
+  Eigen::Matrix3Xd p(3, m), n(3, m);
+  for (Index i = 0; i < m; ++i) {
+    p.col(i) = source.positions().col(i * source.size() / m);
+    n.col(i) = source.normals().col(i * source.size() / m);
+  }
+  PointSet probe(std::move(p));
+  probe.set_normals(std::move(n));
+  std::vector<double> misfit(kMostSides + 1, std::numeric_limits<double>::infinity());
+  for (int sides = kFewestSides; sides <= kMostSides; ++sides)
+    misfit[size_t(sides)] = mean_distance_turned(probe, source, tree, axis, 2 * M_PI / sides, spacing);
+  const double best = *std::min_element(misfit.begin(), misfit.end());
+  if (best > kLaysOnItself * spacing) return 0;
+  for (int sides = kMostSides; sides >= kFewestSides; --sides)
+    if (misfit[size_t(sides)] <= best + kOwnTurn * spacing) return sides;
+  return 0;
+}
+
+// Samples whose normals lean from the axis by less than this sine lie on a cap, not a wall.
+constexpr double kWall = 0.5;
+
+// Two unit vectors across the axis, at right angles: a frame of the plane across it.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> plane_across(const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d e1 = axis.unitOrthogonal();
+  return {e1, axis.cross(e1)};
+}
+
+// The angle, across the axis, of the facet normals of a regular polygon of `sides` sides (one of them; the others
+// are it plus multiples of 2 pi / sides), from the wall samples' normals: the mean of sides times their angles.
+double facet_phase(const PointSet& source, const RevolutionAxis& axis, int sides) {
+  const auto [e1, e2] = plane_across(axis.direction);
+  std::complex<double> sum = 0;
+  for (Index i = 0; i < source.size(); ++i) {
+    const Eigen::Vector3d n = source.normals().col(i);
+    const double x = n.dot(e1), y = n.dot(e2);
+    if (std::hypot(x, y) >= kWall) sum += std::polar(1.0, sides * std::atan2(y, x));
+  }
+  return std::arg(sum) / sides;
+}
+
+// The body of revolution through the corners of a template that is a regular polygon of `sides` sides about the axis
+// (its vertices on the circle, as Blender, OpenSCAD and trimesh draw a cylinder): every sample moved away from the
+// axis, at its height and angle, so that the polygon's rim lands on that circle (a facet's centre by 1 / cos(pi /
+// sides), a corner not at all), which lays walls on the body's wall and caps on its disks; a wall's normal turned
+// across the axis to face along its radius.
+PointSet circumscribed_body(const PointSet& source, const RevolutionAxis& axis, int sides) {
+  const auto [e1, e2] = plane_across(axis.direction);
+  const double phase = facet_phase(source, axis, sides), facet = 2 * M_PI / sides;
+  Eigen::Matrix3Xd p = source.positions(), n = source.normals();
+  for (Index i = 0; i < p.cols(); ++i) {
+    const Eigen::Vector3d d = p.col(i) - axis.centre;
+    const Eigen::Vector3d radial = d - d.dot(axis.direction) * axis.direction;
+    if (radial.norm() == 0) continue;
+    const double angle = std::atan2(radial.dot(e2), radial.dot(e1)) - phase;
+    const double off_facet_centre = angle - facet * std::round(angle / facet);
+    p.col(i) += (std::cos(off_facet_centre) / std::cos(M_PI / sides) - 1) * radial;
+    const Eigen::Vector3d across = n.col(i) - n.col(i).dot(axis.direction) * axis.direction;
+    if (across.norm() >= kWall)
+      n.col(i) = n.col(i).dot(axis.direction) * axis.direction +
+                 std::copysign(across.norm(), across.dot(radial)) * radial.normalized();
+  }
+  PointSet body(std::move(p));
+  body.set_normals(std::move(n));
+  return body;
+}
+
 // ICP's pose, unless it is the relief's pull on the scan as given (kept_input_pose) or, turning the scan further
 // than a relief turns it, on the scan as given turned in place by ICP's turn (turned_in_place). A round template is
 // not turned in place: a turn about its axis is its own, and onto_template_axis lays a round scan's axis on it; on the
@@ -401,9 +495,8 @@ bool turned_onto_itself(const PointSet& source, const KdTree& tree, const Revolu
 // where ICP's pose cuts it through (stop 54's rule, measured on 229 runs). ICP's turn about the axis of a template
 // that turned lies on itself is taken out first.
 Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
-                                      const std::optional<RevolutionAxis>& round, double spacing,
-                                      const CorrespondOptions& o, CorrespondResult& r) {
-  const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+                                      const Similarity& icp_fit, const std::optional<RevolutionAxis>& round,
+                                      double spacing, CorrespondResult& r) {
   // A turn about a body of revolution's axis is its own symmetry: it lays the scan on the template as well at any
   // angle, so only the scan's relief sets ICP's, and it must not count as a turn against the relief's in
   // relief_pulled_from. The sparse fluted column seen from its side, turned 1.86 degrees about the axis and pulled 6 mm
@@ -665,6 +758,32 @@ constexpr double kMostAxisTurn = 45.0 * M_PI / 180;
 constexpr double kAxisMisfitRatio = 2.0;
 constexpr double kAxisMisfitSlack = 0.01;
 
+// The elements whose normals lean across `direction` (kWall): a wall's, not a lid's.
+SurfaceElements walls_across(const SurfaceElements& surface, const Eigen::Vector3d& direction) {
+  std::vector<Index> keep;
+  for (Index i = 0; i < surface.size(); ++i)
+    if (surface.normals.col(i).cross(direction).norm() >= kWall) keep.push_back(i);
+  SurfaceElements walls{Eigen::Matrix3Xd(3, Index(keep.size())), Eigen::Matrix3Xd(3, Index(keep.size())),
+                        Eigen::VectorXd(Index(keep.size()))};
+  for (size_t j = 0; j < keep.size(); ++j) {
+    walls.points.col(Index(j)) = surface.points.col(keep[j]);
+    walls.normals.col(Index(j)) = surface.normals.col(keep[j]);
+    walls.weights(Index(j)) = surface.weights(keep[j]);
+  }
+  return walls;
+}
+
+// Whether the scan, as given, is a body of revolution about an axis near the template's `axis` (within
+// kMostAxisTurn): the normals of its walls (across that axis) meet an axis (kRoundScan). A lid's normals meet every
+// axis along them, and a hexagonal box seen from above is mostly lid.
+bool round_about(const PointSet& exemplar, const RevolutionAxis& axis) {
+  const SurfaceElements walls = walls_across(surface_elements(exemplar), axis.direction);
+  if (walls.size() < 16) return false;
+  const RevolutionAxis own = axis_from_normals(walls);
+  return normal_axis_misfit(walls, own) <= kRoundScan &&
+         std::abs(own.direction.dot(axis.direction)) >= std::cos(kMostAxisTurn);
+}
+
 // The pose that lays the scan's own axis of revolution on the template's, from `pose`: turned about the scan's axis
 // centre until the axes are parallel, then moved across the axis (not along it) onto it. Where the scan is a body of
 // revolution that the template is not in profile (a vase in a plain cylinder), ICP fits the scan's bulge to the
@@ -693,6 +812,65 @@ std::optional<Similarity> onto_template_axis(const PointSet& exemplar, const Poi
   const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(direction, axis.direction).toRotationMatrix();
   const Similarity upright{R, centre - R * centre - across, 1.0};
   return centred_along(exemplar, source, upright.compose(pose), axis, spacing);  // at the template's height
+}
+
+// The scan's pose on the template, from ICP's: registration_or_input_pose's, then its own axis laid on a round
+// template's (onto_template_axis).
+Similarity pose_on(const PointSet& exemplar, const PointSet& source, const KdTree& tree, const Similarity& icp_fit,
+                   const std::optional<RevolutionAxis>& round, double spacing, CorrespondResult& r) {
+  const Similarity pose = registration_or_input_pose(exemplar, source, tree, icp_fit, round, spacing, r);
+  if (const auto laid = round ? onto_template_axis(exemplar, source, pose, *round, spacing) : std::nullopt) {
+    r.kept_input_pose = r.turned_in_place = false;
+    r.laid_on_axis = true;
+    return *laid;
+  }
+  return pose;
+}
+
+// The template's axis (axis_from_normals), with how nearly its normals meet it, and the sides of the regular polygon
+// it is about that axis (sides_about; 0: none, or a body of revolution).
+struct TemplateAxis {
+  RevolutionAxis axis;
+  bool round = false;
+  int sides = 0;
+};
+
+TemplateAxis template_axis(const PointSet& source, const KdTree& tree, double spacing) {
+  const SurfaceElements surface = surface_elements(source);
+  if (surface.size() < 16) return {};
+  TemplateAxis t{axis_from_normals(surface)};
+  t.round = normal_axis_misfit(surface, t.axis) <= kRoundTemplate;
+  if (source.has_normals() && !(t.round && turned_onto_itself(source, tree, t.axis, spacing)))
+    t.sides = sides_about(source, tree, t.axis, spacing);
+  return t;
+}
+
+// The rigid pose of the scan on the template. A low-poly drawing of a body of revolution (a hexagon, an octagon) has
+// corners that a round scan's arc fits only in part: ICP pulled the fluted column seen square on a corner of its
+// hexagon 2.8 cm into it (of an octagon's, 1.4 cm), and its turned images landed twice that off the far side (F 0.590
+// and 0.915). Where the scan lies on the body of revolution through the polygon's corners (circumscribed_body), as
+// ICP lays it there, better than on the polygon as ICP lays it there, the polygon draws that body, and the scan is
+// registered on it as on a round template; a scan of the polygon itself (a hexagonal nut in its hexagon) lies better on
+// the polygon.
+Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
+                      const CorrespondOptions& o, CorrespondResult& r) {
+  const TemplateAxis t = template_axis(source, tree, spacing);
+  const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
+  if (t.sides > 0) {
+    const PointSet body = circumscribed_body(source, t.axis, t.sides);
+    KdTree body_tree;
+    body_tree.build(body.positions());
+    double body_rms = 0;
+    const Similarity body_fit = rigid_icp(exemplar, body, body_tree, o, body_rms);
+    const double on_body = placement_on_source(exemplar, body, body_tree, body_fit, spacing).on;
+    const double on_polygon = placement_on_source(exemplar, source, tree, icp_fit, spacing).on;
+    if (on_body > on_polygon || round_about(exemplar, t.axis)) {
+      r.polygon_sides = t.sides;
+      r.rigid_rms = body_rms;
+      return pose_on(exemplar, body, body_tree, body_fit, t.axis, spacing, r);
+    }
+  }
+  return pose_on(exemplar, source, tree, icp_fit, t.round ? std::optional(t.axis) : std::nullopt, spacing, r);
 }
 
 }  // namespace
@@ -724,15 +902,7 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
                        "% needed); inputs must be roughly aligned and at the same scale");
   }
   // Rigid registration, then the overlap check.
-  if (o.rigid) {
-    const std::optional<RevolutionAxis> round = axis_of_round_template(source);
-    r.rigid = registration_or_input_pose(exemplar, source, tree, round, spacing, o, r);
-    if (const auto laid = round ? onto_template_axis(exemplar, source, r.rigid, *round, spacing) : std::nullopt) {
-      r.rigid = *laid;
-      r.kept_input_pose = r.turned_in_place = false;
-      r.laid_on_axis = true;
-    }
-  }
+  if (o.rigid) r.rigid = rigid_pose(exemplar, source, tree, spacing, o, r);
   report(progress, 0.2);
   r.registered.resize(3, exemplar.size());
   Eigen::Matrix3Xd normals(3, exemplar.size());

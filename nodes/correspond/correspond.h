@@ -5,7 +5,9 @@
 // ground, or cuts a template that bounds the scan as given through it: kept_input_pose; ICP's turn about the
 // template's centroid where only the relief pulled its move, a template drawn a little turned: turned_in_place; where
 // both are bodies of revolution that ICP lays askew, a vase in a plain cylinder, the scan's own axis laid on the
-// template's: laid_on_axis), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
+// template's: laid_on_axis; where the template is a low-poly polygon about an axis, a hexagon drawn for a column, and
+// the scan is round or lies better on the body of revolution through its corners, that body in its place:
+// polygon_sides), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
 // deformation nodes, each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations
 // assembled in parallel and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration
 // alternates with an assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight
@@ -82,6 +84,8 @@ struct CorrespondResult {
   bool turned_in_place = false;               // rigid is ICP's turn about the source's centroid: the relief pulled
                                               // ICP's move
   bool laid_on_axis = false;                  // rigid lays the scan's own axis of revolution on the source's
+  int polygon_sides = 0;                      // the source is a regular polygon of this many sides, and rigid
+                                              // registers the scan on the body of revolution through its corners
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).
   std::vector<SolverSummary> deformation_solves;
