@@ -454,19 +454,18 @@ double medallion_relief(double x, double side, double z) {
 
 }  // namespace
 
-PointSet make_medallion_prism(bool relief) {
-  constexpr int kSides = 3;
+PointSet make_medallion_prism(bool relief, int sides) {
   constexpr double kRadius = 0.4, kHeight = 0.9;
-  if (!relief) return make_lowpoly_cylinder(kRadius, 0.0, kHeight, kSides);
-  const double apothem = kRadius * std::cos(M_PI / kSides), side = 2 * kRadius * std::sin(M_PI / kSides);
+  if (!relief) return make_lowpoly_cylinder(kRadius, 0.0, kHeight, sides);
+  const double apothem = kRadius * std::cos(M_PI / sides), side = 2 * kRadius * std::sin(M_PI / sides);
   const auto corner = [&](int i) {
-    const double phi = 2 * M_PI * i / kSides;
+    const double phi = 2 * M_PI * i / sides;
     return Eigen::Vector3d(kRadius * std::cos(phi), kRadius * std::sin(phi), 0);
   };
   MeshBuilder m;
-  for (int k = 0; k < kSides; ++k) {
+  for (int k = 0; k < sides; ++k) {
     add_relief_side(
-        m, (k + 0.5) * 2 * M_PI / kSides, apothem, side, kHeight,
+        m, (k + 0.5) * 2 * M_PI / sides, apothem, side, kHeight,
         [&](double x, double z) { return medallion_relief(x, side, z); }, 90, 160);
     for (const bool top : {true, false}) {  // the caps as fans of sectors, each from its edge in to the centre
       const Eigen::Vector3d p0 = corner(top ? k : k + 1), p1 = corner(top ? k + 1 : k);
@@ -954,6 +953,7 @@ const std::vector<std::string>& shape_names() {
                                "ribbed_box",      "ribbed_box_template",
                                "beaded_ring",     "ring_template",
                                "medallion_prism", "prism_template",
+                               "medallion_prism6", "prism_template6",
                                "medallion_barrel", "barrel_template",
                                "box8",            "column_template24",
                                "column_template8",
@@ -998,6 +998,8 @@ PointSet make_shape(const std::string& name) {
   if (name == "ring_template") return make_beaded_ring(false);
   if (name == "medallion_prism") return make_medallion_prism(true);
   if (name == "prism_template") return make_medallion_prism(false);
+  if (name == "medallion_prism6") return make_medallion_prism(true, 6);
+  if (name == "prism_template6") return make_medallion_prism(false, 6);
   if (name == "medallion_barrel") return make_medallion_barrel(true);
   if (name == "barrel_template") return make_medallion_barrel(false);
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());

@@ -71,8 +71,9 @@ PointSet make_ribbed_box_template();
 PointSet make_beaded_ring(bool beads);
 // A triangular prism standing on z = 0 (circumradius 0.4, height 0.9, a vertex at +x) with a round medallion and two
 // bands on each side, and with `relief` false its template, the 6-vertex prism: its turns by a third (about its
-// centroid, not its bounding box's centre) carry a side onto the others.
-PointSet make_medallion_prism(bool relief);
+// centroid, not its bounding box's centre) carry a side onto the others. With `sides` 6, a hexagonal prism (shape
+// names medallion_prism6 and prism_template6): a polygon that is the object's own shape, not a drawing of a round one.
+PointSet make_medallion_prism(bool relief, int sides = 3);
 // A barrel standing on z = 0 (height 1, radius 0.4 at its ends and 0.5 at mid-height) with a round medallion at each
 // quarter turn, and with `relief` false its template, the plain barrel. Its scan does not repeat about its axis from
 // below, where the medallions' upper halves go unseen; only quarter turns carry one medallion onto another.
