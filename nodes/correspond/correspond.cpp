@@ -370,8 +370,9 @@ Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, con
                                 turned_flat_on_its_layer(exemplar, source, tree, centre, in_place, spacing), spacing);
 }
 
-// A turn about the axis that lays no rotational symmetry of a polygon of up to 24 sides onto itself (a 24-gon's
-// facets are 15 degrees apart), and the share of the template's samples it must leave on the template.
+// A turn about the axis that is no rotational symmetry of a polygon of up to 24 sides (a 24-gon's facets are 15
+// degrees apart), and the share of the template's samples it must leave on the template. It is within a degree of a
+// 10- and a 20-gon's (36 degrees), which lie on themselves nearly enough to count as round.
 constexpr double kSymmetryProbe = 37.0 * M_PI / 180;
 constexpr double kOnItself = 0.9;
 
@@ -389,7 +390,21 @@ bool turned_onto_itself(const PointSet& source, const KdTree& tree, const Revolu
 constexpr int kFewestSides = 5;
 constexpr int kMostSides = 32;
 
-// Each turn is tried on this many of the template's samples, evenly spread.
+// Samples whose normals lean from the axis by at least this sine lie on a wall, not a cap.
+constexpr double kWall = 0.5;
+
+// Two unit vectors across the axis, at right angles: a frame of the plane across it.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> plane_across(const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d e1 = axis.unitOrthogonal();
+  return {e1, axis.cross(e1)};
+}
+
+// The part of v across the axis (a unit direction).
+Eigen::Vector3d across_axis(const Eigen::Vector3d& v, const Eigen::Vector3d& axis) {
+  return v - v.dot(axis) * axis;
+}
+
+// Each turn is tried on this many of the template's wall samples, evenly spread: a turn slides a cap on itself.
 constexpr Index kSideProbes = 2000;
 // A turn lays the template on itself where its samples land, on average, within this share of a spacing of its
 // surface (a hexagon, an octagon and a 12-gon sampled at 20000: 0.02-0.03 by their own turns). A turn near its own
@@ -397,6 +412,9 @@ constexpr Index kSideProbes = 2000;
 // and of those within kOwnTurn of that (a 12-gon's 6-fold turn is one too), the smallest.
 constexpr double kLaysOnItself = 0.1;
 constexpr double kOwnTurn = 0.05;
+// The facets' normals agree on one phase of the polygon this well (the length of the mean of their angles times the
+// sides, as unit vectors: 1 for a regular polygon's flat facets).
+constexpr double kRegularFacets = 0.5;
 
 // The template's samples `probe` turned by `angle` about the axis: their mean distance from the template's surface
 // (the tangent plane of the nearest sample), each at most two spacings.
@@ -416,18 +434,29 @@ double mean_distance_turned(const PointSet& probe, const PointSet& source, const
   return sum / double(std::max<Index>(1, probe.size()));
 }
 
-// The number of sides of a template that is a regular polygon about the axis (a prism, a low-poly cylinder or vase),
-// from kFewestSides to kMostSides: the most sides n whose turn by 2 pi / n lays it on itself best (kOwnTurn); 0 for
-// none.
-int sides_about(const PointSet& source, const KdTree& tree, const RevolutionAxis& axis, double spacing) {
-  const Index m = std::min(source.size(), kSideProbes);
+// Up to kSideProbes of the template's wall samples (kWall), evenly spread.
+PointSet wall_probes(const PointSet& source, const RevolutionAxis& axis) {
+  std::vector<Index> walls;
+  for (Index i = 0; i < source.size(); ++i)
+    if (across_axis(source.normals().col(i), axis.direction).norm() >= kWall) walls.push_back(i);
+  const Index m = std::min(Index(walls.size()), kSideProbes);
   Eigen::Matrix3Xd p(3, m), n(3, m);
-  for (Index i = 0; i < m; ++i) {
-    p.col(i) = source.positions().col(i * source.size() / m);
-    n.col(i) = source.normals().col(i * source.size() / m);
+  for (Index k = 0; k < m; ++k) {
+    const Index i = walls[size_t(k * Index(walls.size()) / m)];
+    p.col(k) = source.positions().col(i);
+    n.col(k) = source.normals().col(i);
   }
   PointSet probe(std::move(p));
   probe.set_normals(std::move(n));
+  return probe;
+}
+
+// The number of sides of a template that is a regular polygon about the axis (a prism, a low-poly cylinder or vase),
+// from kFewestSides to kMostSides: the most sides n whose turn by 2 pi / n lays its walls on it best (kOwnTurn); 0
+// for none.
+int sides_about(const PointSet& source, const KdTree& tree, const RevolutionAxis& axis, double spacing) {
+  const PointSet probe = wall_probes(source, axis);
+  if (probe.size() < 16) return 0;
   std::vector<double> misfit(kMostSides + 1, std::numeric_limits<double>::infinity());
   for (int sides = kFewestSides; sides <= kMostSides; ++sides)
     misfit[size_t(sides)] = mean_distance_turned(probe, source, tree, axis, 2 * M_PI / sides, spacing);
@@ -438,45 +467,49 @@ int sides_about(const PointSet& source, const KdTree& tree, const RevolutionAxis
   return 0;
 }
 
-// Samples whose normals lean from the axis by less than this sine lie on a cap, not a wall.
-constexpr double kWall = 0.5;
+// A regular polygon's sides about the axis, and the angle across the axis of one facet's outward normal (the others
+// are it plus multiples of 2 pi / sides). sides 0: none.
+struct Facets {
+  int sides = 0;
+  double phase = 0;
+};
 
-// Two unit vectors across the axis, at right angles: a frame of the plane across it.
-std::pair<Eigen::Vector3d, Eigen::Vector3d> plane_across(const Eigen::Vector3d& axis) {
-  const Eigen::Vector3d e1 = axis.unitOrthogonal();
-  return {e1, axis.cross(e1)};
-}
-
-// The angle, across the axis, of the facet normals of a regular polygon of `sides` sides (one of them; the others
-// are it plus multiples of 2 pi / sides), from the wall samples' normals: the mean of sides times their angles.
-double facet_phase(const PointSet& source, const RevolutionAxis& axis, int sides) {
+// The template's facets about the axis (sides_about), their phase the mean of sides times the angles of the wall
+// samples' normals, each turned to face away from the axis; none where those normals do not agree on one phase
+// (kRegularFacets): not a polygon's flat facets.
+Facets facets_about(const PointSet& source, const KdTree& tree, const RevolutionAxis& axis, double spacing) {
+  const int sides = sides_about(source, tree, axis, spacing);
+  if (sides == 0) return {};
   const auto [e1, e2] = plane_across(axis.direction);
   std::complex<double> sum = 0;
+  Index walls = 0;
   for (Index i = 0; i < source.size(); ++i) {
-    const Eigen::Vector3d n = source.normals().col(i);
-    const double x = n.dot(e1), y = n.dot(e2);
-    if (std::hypot(x, y) >= kWall) sum += std::polar(1.0, sides * std::atan2(y, x));
+    Eigen::Vector3d n = across_axis(source.normals().col(i), axis.direction);
+    if (n.norm() < kWall) continue;
+    if (n.dot(source.positions().col(i) - axis.centre) < 0) n = -n;
+    sum += std::polar(1.0, sides * std::atan2(n.dot(e2), n.dot(e1)));
+    ++walls;
   }
-  return std::arg(sum) / sides;
+  if (std::abs(sum) < kRegularFacets * double(walls)) return {};
+  return {sides, std::arg(sum) / sides};
 }
 
-// The body of revolution through the corners of a template that is a regular polygon of `sides` sides about the axis
+// The body of revolution through the corners of a template that is a regular polygon about the axis, its `facets`
 // (its vertices on the circle, as Blender, OpenSCAD and trimesh draw a cylinder): every sample moved away from the
 // axis, at its height and angle, so that the polygon's rim lands on that circle (a facet's centre by 1 / cos(pi /
 // sides), a corner not at all), which lays walls on the body's wall and caps on its disks; a wall's normal turned
 // across the axis to face along its radius.
-PointSet circumscribed_body(const PointSet& source, const RevolutionAxis& axis, int sides) {
+PointSet circumscribed_body(const PointSet& source, const RevolutionAxis& axis, const Facets& facets) {
   const auto [e1, e2] = plane_across(axis.direction);
-  const double phase = facet_phase(source, axis, sides), facet = 2 * M_PI / sides;
+  const double facet = 2 * M_PI / facets.sides;
   Eigen::Matrix3Xd p = source.positions(), n = source.normals();
   for (Index i = 0; i < p.cols(); ++i) {
-    const Eigen::Vector3d d = p.col(i) - axis.centre;
-    const Eigen::Vector3d radial = d - d.dot(axis.direction) * axis.direction;
+    const Eigen::Vector3d radial = across_axis(p.col(i) - axis.centre, axis.direction);
     if (radial.norm() == 0) continue;
-    const double angle = std::atan2(radial.dot(e2), radial.dot(e1)) - phase;
+    const double angle = std::atan2(radial.dot(e2), radial.dot(e1)) - facets.phase;
     const double off_facet_centre = angle - facet * std::round(angle / facet);
-    p.col(i) += (std::cos(off_facet_centre) / std::cos(M_PI / sides) - 1) * radial;
-    const Eigen::Vector3d across = n.col(i) - n.col(i).dot(axis.direction) * axis.direction;
+    p.col(i) += (std::cos(off_facet_centre) / std::cos(M_PI / facets.sides) - 1) * radial;
+    const Eigen::Vector3d across = across_axis(n.col(i), axis.direction);
     if (across.norm() >= kWall)
       n.col(i) = n.col(i).dot(axis.direction) * axis.direction +
                  std::copysign(across.norm(), across.dot(radial)) * radial.normalized();
@@ -773,14 +806,25 @@ SurfaceElements walls_across(const SurfaceElements& surface, const Eigen::Vector
   return walls;
 }
 
+// A scan is rounder than a polygon template where its walls' normals meet their axis at most this share as far off
+// as the polygon's walls meet its own (a hexagon's 0.2, an octagon's 0.13; the vase's one-sided scan 0.017): a 12-gon's
+// own scan is as far off as its template.
+constexpr double kRounder = 0.5;
+
+// How nearly the normals of the elements on walls across the axis (kWall) meet it; infinity with too few.
+double wall_misfit(const SurfaceElements& surface, const RevolutionAxis& axis) {
+  const SurfaceElements walls = walls_across(surface, axis.direction);
+  return walls.size() < 16 ? std::numeric_limits<double>::infinity() : normal_axis_misfit(walls, axis);
+}
+
 // Whether the scan, as given, is a body of revolution about an axis near the template's `axis` (within
-// kMostAxisTurn): the normals of its walls (across that axis) meet an axis (kRoundScan). A lid's normals meet every
-// axis along them, and a hexagonal box seen from above is mostly lid.
-bool round_about(const PointSet& exemplar, const RevolutionAxis& axis) {
+// kMostAxisTurn): the normals of its walls (across that axis) meet an axis within kRoundScan and `most_misfit`. A
+// lid's normals meet every axis along them, and a hexagonal box seen from above is mostly lid.
+bool round_about(const PointSet& exemplar, const RevolutionAxis& axis, double most_misfit) {
   const SurfaceElements walls = walls_across(surface_elements(exemplar), axis.direction);
   if (walls.size() < 16) return false;
   const RevolutionAxis own = axis_from_normals(walls);
-  return normal_axis_misfit(walls, own) <= kRoundScan &&
+  return normal_axis_misfit(walls, own) <= std::min(kRoundScan, most_misfit) &&
          std::abs(own.direction.dot(axis.direction)) >= std::cos(kMostAxisTurn);
 }
 
@@ -827,21 +871,25 @@ Similarity pose_on(const PointSet& exemplar, const PointSet& source, const KdTre
   return pose;
 }
 
-// The template's axis (axis_from_normals), with how nearly its normals meet it, and the sides of the regular polygon
-// it is about that axis (sides_about; 0: none, or a body of revolution).
+// The template's axis (axis_from_normals), whether its normals meet it (kRoundTemplate), and the facets of the
+// regular polygon it is about that axis (facets_about; none for a body of revolution), with how nearly their normals
+// meet it (wall_misfit).
 struct TemplateAxis {
   RevolutionAxis axis;
   bool round = false;
-  int sides = 0;
+  Facets facets;
+  double wall_misfit = 0;
 };
 
 TemplateAxis template_axis(const PointSet& source, const KdTree& tree, double spacing) {
   const SurfaceElements surface = surface_elements(source);
   if (surface.size() < 16) return {};
-  TemplateAxis t{axis_from_normals(surface)};
+  TemplateAxis t;
+  t.axis = axis_from_normals(surface);
   t.round = normal_axis_misfit(surface, t.axis) <= kRoundTemplate;
-  if (source.has_normals() && !(t.round && turned_onto_itself(source, tree, t.axis, spacing)))
-    t.sides = sides_about(source, tree, t.axis, spacing);
+  if (!source.has_normals() || (t.round && turned_onto_itself(source, tree, t.axis, spacing))) return t;
+  t.facets = facets_about(source, tree, t.axis, spacing);
+  if (t.facets.sides > 0) t.wall_misfit = wall_misfit(surface, t.axis);
   return t;
 }
 
@@ -850,22 +898,23 @@ TemplateAxis template_axis(const PointSet& source, const KdTree& tree, double sp
 // hexagon 2.8 cm into it (of an octagon's, 1.4 cm), and its turned images landed twice that off the far side (F 0.590
 // and 0.915). Where the scan lies on the body of revolution through the polygon's corners (circumscribed_body), as
 // ICP lays it there, better than on the polygon as ICP lays it there, the polygon draws that body, and the scan is
-// registered on it as on a round template; a scan of the polygon itself (a hexagonal nut in its hexagon) lies better on
-// the polygon.
+// registered on it as on a round template, as it is where the scan is rounder than the polygon (round_about, kRounder:
+// the vase lies on neither, 7% either way). A scan of the polygon itself (a hexagonal prism in its hexagon) lies
+// better on the polygon, and is no rounder.
 Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
                       const CorrespondOptions& o, CorrespondResult& r) {
   const TemplateAxis t = template_axis(source, tree, spacing);
   const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
-  if (t.sides > 0) {
-    const PointSet body = circumscribed_body(source, t.axis, t.sides);
+  if (t.facets.sides > 0) {
+    const PointSet body = circumscribed_body(source, t.axis, t.facets);
     KdTree body_tree;
     body_tree.build(body.positions());
     double body_rms = 0;
     const Similarity body_fit = rigid_icp(exemplar, body, body_tree, o, body_rms);
     const double on_body = placement_on_source(exemplar, body, body_tree, body_fit, spacing).on;
     const double on_polygon = placement_on_source(exemplar, source, tree, icp_fit, spacing).on;
-    if (on_body > on_polygon || round_about(exemplar, t.axis)) {
-      r.polygon_sides = t.sides;
+    if (on_body > on_polygon || round_about(exemplar, t.axis, kRounder * t.wall_misfit)) {
+      r.polygon_sides = t.facets.sides;
       r.rigid_rms = body_rms;
       return pose_on(exemplar, body, body_tree, body_fit, t.axis, spacing, r);
     }

@@ -217,7 +217,8 @@ TEST(Correspond, KeepsAScansOwnTurnAboutARoundTemplatesAxis) {
 // its radius, as Blender and OpenSCAD draw a cylinder): its arc fits the corner's two facets only in part, and ICP
 // pulled it 2.8 cm into the corner. It lies better on the body of revolution through the corners, and is registered
 // there, where it keeps its place as given. A hexagonal prism scanned from the same side lies better on the hexagon
-// itself, and moved and tilted off it, is registered there by ICP.
+// itself, and moved and tilted off it, is registered there by ICP. A 12-gon's own scan stays on its 12-gon too (it
+// went to the body while a scan counted as round by kRoundScan alone).
 TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) {
   ScanOptions side;
   side.eye = Eigen::Vector3d(3.71, 0, 1.53);
@@ -245,6 +246,12 @@ TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) 
   EXPECT_LT(rotation_angle(prism.rotation) * 180 / M_PI, 0.2) << "the tilt is undone";
   EXPECT_LT((prism.apply(Eigen::Vector3d(0, 0, 0.6)) - Eigen::Vector3d(0, 0, 0.6)).norm(), 0.5 * t.spacing)
       << "and the move";
+  // A 12-gon's facets are nearly round (their normals meet its axis within 0.15, as a round scan's do), but its own
+  // scan is no rounder than its template.
+  const PointSet dodecagon = make_lowpoly_cylinder(0.3, 0, 1.2, 12);
+  const SampleResult t12 = sample(dodecagon, {.count = 20000});
+  const PointSet exemplar = estimate_features(virtual_scan(dodecagon, side).points, {}).points;
+  EXPECT_EQ(correspond(exemplar, estimate_features(t12.samples, {}).points, t12.spacing, o).polygon_sides, 0);
 }
 
 TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
