@@ -184,17 +184,23 @@ double degrees_about_z(const Eigen::Matrix3d& R) {
   return std::abs(2 * std::atan2(q.z(), q.w())) * 180 / M_PI;
 }
 
+// The sweep's side view of the fluted column (`bench/robustness.py`'s eye for it), `rays` by `rays`.
+ScanOptions column_side_view(int rays) {
+  ScanOptions side;
+  side.eye = Eigen::Vector3d(3.71, 0, 1.53);
+  side.target = Eigen::Vector3d(0, 0, 0.6);
+  side.width = side.height = rays;
+  side.fov_deg = 30;
+  return side;
+}
+
 // The fluted column seen from its side, sparsely (160 by 160 rays, as `bench/robustness.py --resolution 160`), in a
 // 24-gon cylinder: ICP turned it 4.5 degrees about the axis, its flutes held by the facets, whatever its own turn. A
 // turn about a round template's axis is the template's own symmetry, so ICP's is the relief's alone: the scan keeps
 // its own turn about the axis, as given or turned 6 degrees, and a tilt and a move across the axis are still
 // registered.
 TEST(Correspond, KeepsAScansOwnTurnAboutARoundTemplatesAxis) {
-  ScanOptions side;
-  side.eye = Eigen::Vector3d(3.71, 0, 1.53);
-  side.target = Eigen::Vector3d(0, 0, 0.6);
-  side.width = side.height = 160;
-  side.fov_deg = 30;
+  const ScanOptions side = column_side_view(160);
   const PointSet scan = virtual_scan(make_column(), side).points;
   const SampleResult t = sample(make_lowpoly_cylinder(0.3, 0, 1.2, 24), {.count = 20000});
   const PointSet source = estimate_features(t.samples, {}).points;
@@ -220,11 +226,7 @@ TEST(Correspond, KeepsAScansOwnTurnAboutARoundTemplatesAxis) {
 // itself, and moved and tilted off it, is registered there by ICP. A 12-gon's own scan stays on its 12-gon too (it
 // went to the body while a scan counted as round by kRoundScan alone).
 TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) {
-  ScanOptions side;
-  side.eye = Eigen::Vector3d(3.71, 0, 1.53);
-  side.target = Eigen::Vector3d(0, 0, 0.6);
-  side.width = side.height = 320;
-  side.fov_deg = 30;
+  const ScanOptions side = column_side_view(320);
   const PointSet hexagon = make_lowpoly_cylinder(0.3, 0, 1.2, 6);
   const SampleResult t = sample(hexagon, {.count = 20000});
   const PointSet source = estimate_features(t.samples, {}).points;
