@@ -372,7 +372,8 @@ Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, con
 
 // A turn about the axis that is no rotational symmetry of a polygon of up to 24 sides (a 24-gon's facets are 15
 // degrees apart), and the share of the template's samples it must leave on the template. It is within a degree of a
-// 10- and a 20-gon's (36 degrees), which lie on themselves nearly enough to count as round.
+// 10- and a 20-gon's (36 degrees), which may lie on themselves nearly enough to count as round and get no body
+// (sides_about): the column's 10-gon does not at its spacing.
 constexpr double kSymmetryProbe = 37.0 * M_PI / 180;
 constexpr double kOnItself = 0.9;
 
