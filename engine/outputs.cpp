@@ -198,7 +198,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
       {"kept_input_pose", m.kept_input_pose},
       {"turned_in_place", m.turned_in_place},
       {"laid_on_axis", m.laid_on_axis},
-      {"polygon_sides", m.polygon_sides},
+      {"polygon_sides", m.polygon.sides},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};

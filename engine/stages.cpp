@@ -284,9 +284,9 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}{}; {} of {} exemplar samples matched, RMS "
             "{:.4g} after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
-            c->map.polygon_sides > 0 ? fmt::format(" on the body of revolution through the corners of the template's "
+            c->map.polygon.sides > 0 ? fmt::format(" on the body of revolution through the corners of the template's "
                                                    "{} sides",
-                                                   c->map.polygon_sides)
+                                                   c->map.polygon.sides)
                                      : std::string(),
             c->map.kept_input_pose   ? " (ICP's, not taken: the scan's relief pulled it off the template)"
             : c->map.turned_in_place ? " (ICP's turn about the template's centroid: the scan's relief pulled its move)"

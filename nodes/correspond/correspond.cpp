@@ -495,28 +495,26 @@ Facets facets_about(const PointSet& source, const KdTree& tree, const Revolution
   return {sides, std::arg(sum) / sides};
 }
 
-// The body of revolution through the corners of a template that is a regular polygon about the axis, its `facets`
-// (its vertices on the circle, as Blender, OpenSCAD and trimesh draw a cylinder): every sample moved away from the
-// axis, at its height and angle, so that the polygon's rim lands on that circle (a facet's centre by 1 / cos(pi /
-// sides), a corner not at all), which lays walls on the body's wall and caps on its disks; a wall's normal turned
-// across the axis to face along its radius.
-PointSet circumscribed_body(const PointSet& source, const RevolutionAxis& axis, const Facets& facets) {
+// on_polygon_body about `axis`, for its `facets`.
+PointSet circumscribed_body(const PointSet& points, const RevolutionAxis& axis, const Facets& facets) {
   const auto [e1, e2] = plane_across(axis.direction);
   const double facet = 2 * M_PI / facets.sides;
-  Eigen::Matrix3Xd p = source.positions(), n = source.normals();
+  Eigen::Matrix3Xd p = points.positions(), n = points.normals();
   for (Index i = 0; i < p.cols(); ++i) {
     const Eigen::Vector3d radial = across_axis(p.col(i) - axis.centre, axis.direction);
     if (radial.norm() == 0) continue;
     const double angle = std::atan2(radial.dot(e2), radial.dot(e1)) - facets.phase;
     const double off_facet_centre = angle - facet * std::round(angle / facet);
     p.col(i) += (std::cos(off_facet_centre) / std::cos(M_PI / facets.sides) - 1) * radial;
+    if (!points.has_normals()) continue;
     const Eigen::Vector3d across = across_axis(n.col(i), axis.direction);
     if (across.norm() >= kWall)
       n.col(i) = n.col(i).dot(axis.direction) * axis.direction +
                  std::copysign(across.norm(), across.dot(radial)) * radial.normalized();
   }
-  PointSet body(std::move(p));
-  body.set_normals(std::move(n));
+  PointSet body = points;
+  body.set_positions(std::move(p));
+  if (points.has_normals()) body.set_normals(std::move(n));
   return body;
 }
 
@@ -915,7 +913,7 @@ Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const Kd
     const double on_body = placement_on_source(exemplar, body, body_tree, body_fit, spacing).on;
     const double on_polygon = placement_on_source(exemplar, source, tree, icp_fit, spacing).on;
     if (on_body > on_polygon || round_about(exemplar, t.axis, kRounder * t.wall_misfit)) {
-      r.polygon_sides = t.facets.sides;
+      r.polygon = {t.axis.centre, t.axis.direction, t.facets.sides, t.facets.phase};
       r.rigid_rms = body_rms;
       return pose_on(exemplar, body, body_tree, body_fit, t.axis, spacing, r);
     }
@@ -923,37 +921,13 @@ Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const Kd
   return pose_on(exemplar, source, tree, icp_fit, t.round ? std::optional(t.axis) : std::nullopt, spacing, r);
 }
 
-}  // namespace
-
-CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
-                            const CorrespondOptions& o, const ProgressFn& progress) {
-  check_options(o);  // the config checks these too; a direct caller gets the same checks
-  CorrespondResult r;
-  if (exemplar.size() < o.min_samples)
-    throw InputError("the exemplar (scan) has " + std::to_string(exemplar.size()) + " samples; at least " +
-                     std::to_string(o.min_samples) + " are needed to register it");
-  if (source.size() < o.min_samples)
-    throw InputError("the source (template) has " + std::to_string(source.size()) + " samples; at least " +
-                     std::to_string(o.min_samples) + " are needed");
+// After the rigid registration r.rigid: the overlap check, then assignment alternating with embedded deformation onto
+// `source`, and the matches.
+void deform_onto(const PointSet& exemplar, const PointSet& source, double spacing, const CorrespondOptions& o,
+                 const ProgressFn& progress, CorrespondResult& r) {
   const double ds = bounding_box(source.positions()).diagonal();
   KdTree tree;
   tree.build(source.positions());
-
-  // Roughly aligned inputs (paper section 3) overlap before any registration: ICP from a pose that shares nothing
-  // with the template would only find some arbitrary local fit.
-  {
-    const double loose = std::max(o.escape_distance * spacing, 0.1 * ds);
-    const double share = share_within(tree, exemplar.positions(), loose);
-    if (share < o.min_overlap)
-      throw InputError("the exemplar (scan) and the source (template) do not overlap: only " +
-                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
-                       std::to_string(loose) + " of the template (10% of its diagonal; at least " +
-                       std::to_string(int(std::round(100 * o.min_overlap))) +
-                       "% needed); inputs must be roughly aligned and at the same scale");
-  }
-  // Rigid registration, then the overlap check.
-  if (o.rigid) r.rigid = rigid_pose(exemplar, source, tree, spacing, o, r);
-  report(progress, 0.2);
   r.registered.resize(3, exemplar.size());
   Eigen::Matrix3Xd normals(3, exemplar.size());
   for (Index i = 0; i < exemplar.size(); ++i) {
@@ -1018,6 +992,47 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
 
   inverse_match(source, r);
   report(progress, 1.0);
+}
+
+}  // namespace
+
+PointSet on_polygon_body(const PointSet& points, const PolygonBody& body) {
+  if (body.sides < kFewestSides) throw InvariantError("on_polygon_body: a polygon has at least 5 sides");
+  return circumscribed_body(points, {body.centre, body.direction}, {body.sides, body.phase});
+}
+
+CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,
+                            const CorrespondOptions& o, const ProgressFn& progress) {
+  check_options(o);  // the config checks these too; a direct caller gets the same checks
+  CorrespondResult r;
+  if (exemplar.size() < o.min_samples)
+    throw InputError("the exemplar (scan) has " + std::to_string(exemplar.size()) + " samples; at least " +
+                     std::to_string(o.min_samples) + " are needed to register it");
+  if (source.size() < o.min_samples)
+    throw InputError("the source (template) has " + std::to_string(source.size()) + " samples; at least " +
+                     std::to_string(o.min_samples) + " are needed");
+  const double ds = bounding_box(source.positions()).diagonal();
+  KdTree tree;
+  tree.build(source.positions());
+
+  // Roughly aligned inputs (paper section 3) overlap before any registration: ICP from a pose that shares nothing
+  // with the template would only find some arbitrary local fit.
+  {
+    const double loose = std::max(o.escape_distance * spacing, 0.1 * ds);
+    const double share = share_within(tree, exemplar.positions(), loose);
+    if (share < o.min_overlap)
+      throw InputError("the exemplar (scan) and the source (template) do not overlap: only " +
+                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
+                       std::to_string(loose) + " of the template (10% of its diagonal; at least " +
+                       std::to_string(int(std::round(100 * o.min_overlap))) +
+                       "% needed); inputs must be roughly aligned and at the same scale");
+  }
+  if (o.rigid) r.rigid = rigid_pose(exemplar, source, tree, spacing, o, r);
+  report(progress, 0.2);
+  if (r.polygon.sides > 0)
+    deform_onto(exemplar, on_polygon_body(source, r.polygon), spacing, o, progress, r);
+  else
+    deform_onto(exemplar, source, spacing, o, progress, r);
   return r;
 }
 

@@ -6,8 +6,8 @@
 // template's centroid where only the relief pulled its move, a template drawn a little turned: turned_in_place; where
 // both are bodies of revolution that ICP lays askew, a vase in a plain cylinder, the scan's own axis laid on the
 // template's: laid_on_axis; where the template is a low-poly polygon about an axis, a hexagon drawn for a column, and
-// the scan is round or lies better on the body of revolution through its corners, that body in its place:
-// polygon_sides), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
+// the scan is round or lies better on the body of revolution through its corners, that body in its place from here
+// on: polygon), then non-rigidly by embedded deformation (Sumner, Schmid, Pauly 2007): a graph of
 // deformation nodes, each with an affine map and a translation, solved by Levenberg-Marquardt on normal equations
 // assembled in parallel and factorised block by block (deformation_solve.h; Huber loss on the data terms). Registration
 // alternates with an assignment: eq. 1's cost (squared distance in the common frame, in alpha units, plus normal_weight
@@ -47,6 +47,21 @@ struct LandmarkFiles {
   std::filesystem::path source;    // picked on the template or source
 };
 
+// A template that is a regular polygon about an axis (a low-poly cylinder, its vertices on the circle, as Blender,
+// OpenSCAD and trimesh draw one), read as the body of revolution through its corners. sides 0: none.
+struct PolygonBody {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();      // a point on the axis
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // the axis' unit direction
+  int sides = 0;
+  double phase = 0;  // the angle across the axis of one facet's outward normal, from direction.unitOrthogonal()
+};
+
+// `points` on the body of revolution a polygon draws: each moved away from the axis at its height and angle, so that
+// the polygon's rim lands on the circle through its corners (a facet's centre by 1 / cos(pi / sides), a corner not at
+// all), which lays walls on the body's wall and caps on its disks; a wall's normal turned across the axis to face
+// along its radius. Every other attribute (triangles, provenance, colours) is kept.
+PointSet on_polygon_body(const PointSet& points, const PolygonBody& body);
+
 struct CorrespondOptions {
   bool rigid = true;                  // rigid pre-alignment by ICP (roughly aligned inputs); false: the given pose
   int rigid_iterations = 40;          // ICP steps; [1, 500]
@@ -84,8 +99,8 @@ struct CorrespondResult {
   bool turned_in_place = false;               // rigid is ICP's turn about the source's centroid: the relief pulled
                                               // ICP's move
   bool laid_on_axis = false;                  // rigid lays the scan's own axis of revolution on the source's
-  int polygon_sides = 0;                      // the source is a regular polygon of this many sides, and rigid
-                                              // registers the scan on the body of revolution through its corners
+  PolygonBody polygon;                        // sides > 0: the source is a regular polygon, and the scan is registered
+                                              // and deformed onto on_polygon_body(source), which stands in for it
   double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).
   std::vector<SolverSummary> deformation_solves;

@@ -224,7 +224,8 @@ TEST(Correspond, KeepsAScansOwnTurnAboutARoundTemplatesAxis) {
 // pulled it 2.8 cm into the corner. It lies better on the body of revolution through the corners, and is registered
 // there, where it keeps its place as given. A hexagonal prism scanned from the same side lies better on the hexagon
 // itself, and moved and tilted off it, is registered there by ICP. A 12-gon's own scan stays on its 12-gon too (it
-// went to the body while a scan counted as round by kRoundScan alone).
+// went to the body while a scan counted as round by kRoundScan alone). The body, which stands in for the hexagon from
+// the registration on, passes through its corners: every wall sample on the circle, facing along its radius.
 TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) {
   const ScanOptions side = column_side_view(320);
   const PointSet hexagon = make_lowpoly_cylinder(0.3, 0, 1.2, 6);
@@ -232,19 +233,31 @@ TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) 
   const PointSet source = estimate_features(t.samples, {}).points;
   CorrespondOptions o;
   o.outer_iterations = 0;
-  const auto registered = [&](const PointSet& shape, const Similarity& motion, int& sides) {
+  const auto registered = [&](const PointSet& shape, const Similarity& motion, PolygonBody& body) {
     const PointSet exemplar = estimate_features(transformed(virtual_scan(shape, side).points, motion), {}).points;
     const CorrespondResult r = correspond(exemplar, source, t.spacing, o);
-    sides = r.polygon_sides;
+    body = r.polygon;
     return r.rigid.compose(motion);
   };
-  int sides = 0;
-  const Similarity column = registered(make_column(), Similarity{}, sides);
-  EXPECT_EQ(sides, 6);
+  PolygonBody body;
+  const Similarity column = registered(make_column(), Similarity{}, body);
+  ASSERT_EQ(body.sides, 6);
   EXPECT_LT(column.apply(Eigen::Vector3d(0, 0, 0.6)).head<2>().norm(), 0.5 * t.spacing) << "not pulled into the corner";
+  const PointSet round = on_polygon_body(source, body);
+  Index walls = 0;
+  for (Index i = 0; i < round.size(); ++i) {
+    const Eigen::Vector2d radial = round.positions().col(i).head<2>(), across = round.normals().col(i).head<2>();
+    const double z = round.positions()(2, i);
+    if (z < t.spacing || z > 1.2 - t.spacing) continue;  // a cap, or its rim, whose normals lean
+    ++walls;
+    ASSERT_NEAR(radial.norm(), 0.3, 0.2 * t.spacing) << "sample " << i << " on the circle through the corners";
+    ASSERT_GT(radial.normalized().dot(across.normalized()), 0.9999) << "sample " << i << " faces along its radius";
+  }
+  EXPECT_GT(walls, t.samples.size() / 2);
+  EXPECT_EQ(on_polygon_body(hexagon, body).faces(), hexagon.faces()) << "a mesh keeps its triangles";
   const Eigen::Matrix3d tilt = Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Similarity prism = registered(hexagon, Similarity{tilt, Eigen::Vector3d(0.01, 0.01, 0), 1.0}, sides);
-  EXPECT_EQ(sides, 0) << "a hexagonal prism lies better on the hexagon";
+  const Similarity prism = registered(hexagon, Similarity{tilt, Eigen::Vector3d(0.01, 0.01, 0), 1.0}, body);
+  EXPECT_EQ(body.sides, 0) << "a hexagonal prism lies better on the hexagon";
   EXPECT_LT(rotation_angle(prism.rotation) * 180 / M_PI, 0.2) << "the tilt is undone";
   EXPECT_LT((prism.apply(Eigen::Vector3d(0, 0, 0.6)) - Eigen::Vector3d(0, 0, 0.6)).norm(), 0.5 * t.spacing)
       << "and the move";
@@ -253,7 +266,7 @@ TEST(Correspond, RegistersARoundScanOnTheBodyOfRevolutionALowPolyTemplateDraws) 
   const PointSet dodecagon = make_lowpoly_cylinder(0.3, 0, 1.2, 12);
   const SampleResult t12 = sample(dodecagon, {.count = 20000});
   const PointSet exemplar = estimate_features(virtual_scan(dodecagon, side).points, {}).points;
-  EXPECT_EQ(correspond(exemplar, estimate_features(t12.samples, {}).points, t12.spacing, o).polygon_sides, 0);
+  EXPECT_EQ(correspond(exemplar, estimate_features(t12.samples, {}).points, t12.spacing, o).polygon.sides, 0);
 }
 
 TEST(Correspond, EmbeddedDeformationFitsABentCopy) {
