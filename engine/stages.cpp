@@ -271,6 +271,26 @@ FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const Feat
   });
 }
 
+namespace {
+
+// The body of revolution a low-poly polygon template draws (CorrespondResult::polygon), in the template's place from
+// the correspondence on: its samples with their features estimated again, and the surface copies are made of (at the
+// output's density, as copy_surface makes it for the plan), all moved onto the body.
+FeaturedPtr body_in_place_of(const RunConfig& config, const Featured& templ, const Featured& scan,
+                             const PolygonBody& body) {
+  auto loaded = std::make_shared<Loaded>(*templ.sampled->loaded);
+  loaded->load.points = on_polygon_body(copy_surface(loaded->load.points, scan.sampled->loaded->points(),
+                                                     scan.features.points.size(), templ.features.points.size()),
+                                        body);
+  auto sampled = std::make_shared<Sampled>(*templ.sampled);
+  sampled->loaded = std::move(loaded);
+  sampled->sample.samples = on_polygon_body(templ.sampled->sample.samples, body);
+  FeaturesResult features = estimate_features(sampled->sample.samples, config.features);
+  return std::make_shared<const Featured>(Featured{std::move(sampled), std::move(features)});
+}
+
+}  // namespace
+
 CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar, const FeaturedPtr& source) {
   return run_node(state, "correspond", "", [&](const ProgressFn& progress) {
     auto c = std::make_shared<Correspondence>();
@@ -279,13 +299,14 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     const PointSet& E = exemplar->features.points;
     c->map = correspond(E, source->features.points, source->sampled->sample.spacing, state.config.correspond, progress);
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
+    if (c->map.polygon.sides > 0) c->source = body_in_place_of(state.config, *source, *exemplar, c->map.polygon);
     node_logger("correspond")
         ->info(
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}{}; {} of {} exemplar samples matched, RMS "
             "{:.4g} after deformation",
             rotation_angle(c->map.rigid.rotation) * 180 / M_PI, c->map.rigid.translation.norm(), c->map.rigid_rms,
             c->map.polygon.sides > 0 ? fmt::format(" on the body of revolution through the corners of the template's "
-                                                   "{} sides",
+                                                   "{} sides, which stands in for it from here on",
                                                    c->map.polygon.sides)
                                      : std::string(),
             c->map.kept_input_pose   ? " (ICP's, not taken: the scan's relief pulled it off the template)"

@@ -944,7 +944,7 @@ const std::vector<std::string>& shape_names() {
                                "cylinder",        "blob",
                                "box",             "box_l",
                                "vase",            "vase_template",
-                               "vase_cylinder",
+                               "vase_cylinder",   "vase_cylinder6",
                                "column",          "column_template",
                                "gear",            "gear_template",
                                "table",           "table_template",
@@ -956,7 +956,7 @@ const std::vector<std::string>& shape_names() {
                                "medallion_prism6", "prism_template6",
                                "medallion_barrel", "barrel_template",
                                "box8",            "column_template24",
-                               "column_template8",
+                               "column_template8", "column_template6",
                                "disk_pair",       "disk_pair_scaled",
                                "gear_pair",       "gear_pair_scaled"};
     // clang-format on
@@ -982,6 +982,7 @@ PointSet make_shape(const std::string& name) {
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();
   if (name == "vase_cylinder") return make_vase_cylinder();
+  if (name == "vase_cylinder6") return make_vase_cylinder(6);
   if (name == "column") return make_column();
   if (name == "column_template") return make_column_template();
   if (name == "gear") return make_gear();
@@ -1005,6 +1006,7 @@ PointSet make_shape(const std::string& name) {
   if (name == "box8") return make_lowpoly_box(Eigen::Vector3d(1.0, 0.4, 0.4), Eigen::Vector3d::Zero());
   if (name == "column_template24") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 24);
   if (name == "column_template8") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 8);
+  if (name == "column_template6") return make_lowpoly_cylinder(0.3, 0.0, 1.2, 6);
   if (name == "disk_pair") return make_disk_pair(1.0, false);
   if (name == "disk_pair_scaled") return make_disk_pair(0.7, false);
   if (name == "gear_pair") return make_disk_pair(1.0, true);
