@@ -47,7 +47,8 @@ VIEWS = {
 COMPLETIONS = [
     ("vase", "procedural:vase", ["procedural:vase_template", "revolution:procedural:vase"]),
     ("fluted column", "procedural:column",
-     ["procedural:column_template", "procedural:column_template24", "procedural:column_template8"]),
+     ["procedural:column_template", "procedural:column_template24", "procedural:column_template8",
+      "procedural:column_template6"]),
     ("gear", "procedural:gear", ["procedural:gear_template"]),
     ("table", "procedural:table", ["procedural:table_template"]),
     ("crate (box template)", "procedural:crate", ["procedural:crate_template"]),
@@ -61,10 +62,11 @@ COMPLETIONS = [
 # in a plain cylinder (stop 45), whose copied caps and foot lie off the vase; a barrel with a medallion at each quarter
 # turn, completed with its own body of revolution (stop 49), whose medallions only quarter turns carry to its back. The
 # fluted column's octagon (vertices on its radius) was here from stop 57, where ICP pulled a scan seen square on a
-# corner into it, until stop 58 registered round scans on the body through its corners.
+# corner into it, until stop 58 registered round scans on the body through its corners. The vase's hexagon (stop 59)
+# stands with its plain cylinder: its body's copied caps lie over the vase's open ends.
 BEYOND_FLOORS = [
     ("ribbed box, not square (box template)", "procedural:ribbed_box", ["procedural:ribbed_box_template"]),
-    ("vase (plain cylinder template)", "procedural:vase", ["procedural:vase_cylinder"]),
+    ("vase (plain cylinder template)", "procedural:vase", ["procedural:vase_cylinder", "procedural:vase_cylinder6"]),
     ("medallion barrel (revolution: template)", "procedural:medallion_barrel",
      ["revolution:procedural:medallion_barrel"]),
 ]
