@@ -237,6 +237,132 @@ PointSet merge_duplicates(const PointSet& cloud, Index& merged) {
 
 }  // namespace
 
+namespace {
+
+double longest_edge_of(const PointSet& mesh) {
+  const Eigen::Matrix3Xd& P = mesh.positions();
+  const Matrix3Xi& F = mesh.faces();
+  double longest = 0;
+  for (Index f = 0; f < F.cols(); ++f)
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, (P.col(F(k, f)) - P.col(F((k + 1) % 3, f))).norm());
+  return longest;
+}
+
+// One triangle of a mesh as a mesh of its own.
+PointSet triangle_alone(const Eigen::Matrix3Xd& P, const Eigen::Matrix<std::int32_t, 3, 1>& corners) {
+  Eigen::Matrix3Xd Q(3, 3);
+  for (int k = 0; k < 3; ++k) Q.col(k) = P.col(corners(k));
+  PointSet out(std::move(Q));
+  out.set_faces(Matrix3Xi(Eigen::Matrix<std::int32_t, 3, 1>(0, 1, 2)));
+  return out;
+}
+
+// The triangles `splits` leaves whole, each with corners of its own.
+PointSet unsplit_triangles(const Eigen::Matrix3Xd& P, const Matrix3Xi& F, const std::vector<int>& splits) {
+  const auto whole = Index(std::count(splits.begin(), splits.end(), 0));
+  Eigen::Matrix3Xd Q(3, 3 * whole);
+  Matrix3Xi G(3, whole);
+  for (Index f = 0, w = 0; f < F.cols(); ++f) {
+    if (splits[size_t(f)] != 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      Q.col(3 * w + k) = P.col(F(k, f));
+      G(k, w) = std::int32_t(3 * w + k);
+    }
+    ++w;
+  }
+  PointSet out(std::move(Q));
+  out.set_faces(std::move(G));
+  return out;
+}
+
+// Meshes side by side as one (their vertices not merged).
+PointSet joined_meshes(const std::vector<PointSet>& parts) {
+  Index vertices = 0, faces = 0;
+  for (const PointSet& m : parts) {
+    vertices += m.size();
+    faces += m.faces().cols();
+  }
+  Eigen::Matrix3Xd P(3, vertices);
+  Matrix3Xi F(3, faces);
+  Index v = 0, f = 0;
+  for (const PointSet& m : parts) {
+    P.middleCols(v, m.size()) = m.positions();
+    F.middleCols(f, m.faces().cols()) = m.faces().array() + std::int32_t(v);
+    v += m.size();
+    f += m.faces().cols();
+  }
+  PointSet out(std::move(P));
+  out.set_faces(std::move(F));
+  return out;
+}
+
+// One 1-to-4 split: each edge's midpoint made once (keyed by its two vertices), each triangle into its three corners'
+// triangles and the middle one, wound as it was.
+PointSet split_in_four(const PointSet& mesh) {
+  const Eigen::Matrix3Xd& P = mesh.positions();
+  const Matrix3Xi& F = mesh.faces();
+  std::vector<std::pair<std::uint64_t, Index>> edges;
+  edges.reserve(size_t(3 * F.cols()));
+  const auto key = [](Index a, Index b) {
+    return (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
+  };
+  for (Index f = 0; f < F.cols(); ++f)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(key(F(k, f), F((k + 1) % 3, f)), 0);
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+              edges.end());
+  Eigen::Matrix3Xd Q(3, P.cols() + Index(edges.size()));
+  Q.leftCols(P.cols()) = P;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    edges[e].second = P.cols() + Index(e);
+    Q.col(edges[e].second) = 0.5 * (P.col(Index(edges[e].first >> 32)) + P.col(Index(edges[e].first & 0xffffffffu)));
+  }
+  const auto midpoint = [&](Index a, Index b) {
+    return std::int32_t(std::lower_bound(edges.begin(), edges.end(), std::make_pair(key(a, b), Index(0)))->second);
+  };
+  using Triangle = Eigen::Matrix<std::int32_t, 3, 1>;
+  Matrix3Xi G(3, 4 * F.cols());
+  for (Index f = 0; f < F.cols(); ++f) {
+    const std::int32_t a = F(0, f), b = F(1, f), c = F(2, f);
+    const std::int32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+    G.col(4 * f) = Triangle(a, ab, ca);
+    G.col(4 * f + 1) = Triangle(ab, b, bc);
+    G.col(4 * f + 2) = Triangle(ca, bc, c);
+    G.col(4 * f + 3) = Triangle(ab, bc, ca);
+  }
+  PointSet out(std::move(Q));
+  out.set_faces(std::move(G));
+  return out;
+}
+
+}  // namespace
+
+PointSet subdivided_mesh(const PointSet& mesh, double longest_edge, Index most_faces) {
+  if (!mesh.has_faces()) throw InputError("subdivided_mesh: a mesh is needed, not a cloud");
+  const Eigen::Matrix3Xd& P = mesh.positions();
+  const Matrix3Xi& F = mesh.faces();
+  std::vector<int> splits(size_t(F.cols()));
+  for (Index f = 0; f < F.cols(); ++f) {
+    const PointSet corners = triangle_alone(P, F.col(f));
+    splits[size_t(f)] = int(std::ceil(std::log2(std::max(1.0, longest_edge_of(corners) / longest_edge))));
+  }
+  const auto faces_made = [&] {
+    Index n = 0;
+    for (const int s : splits) n += Index(1) << (2 * s);
+    return n;
+  };
+  while (faces_made() > most_faces && *std::max_element(splits.begin(), splits.end()) > 0)
+    for (int& s : splits) s = std::max(0, s - 1);
+  std::vector<PointSet> parts(1, unsplit_triangles(P, F, splits));
+  for (Index f = 0; f < F.cols(); ++f) {
+    if (splits[size_t(f)] == 0) continue;
+    PointSet part = triangle_alone(P, F.col(f));
+    for (int k = 0; k < splits[size_t(f)]; ++k) part = split_in_four(part);
+    parts.push_back(std::move(part));
+  }
+  return joined_meshes(parts);
+}
+
 PointSet random_surface_points(const PointSet& mesh, Index n, std::uint64_t seed) {
   if (!mesh.has_faces()) throw InputError("random surface points need a mesh");
   Candidates c = mesh_candidates(mesh, n, seed);

@@ -66,6 +66,35 @@ TEST(Sample, PoissonDiskPropertyOnACloudAndProvenance) {
   EXPECT_GE(min(d), 0.6 * mean(d)) << "min " << min(d) << " mean " << mean(d);
 }
 
+// The hexagon a vase is drawn in, split until its edges are at most 2 cm: its walls' long triangles 6 times, its caps'
+// 5 times, so that its points spread as its area does; its area and winding kept (the area vectors of a closed surface
+// sum to zero), and no more splits than the cap allows.
+TEST(Sample, SubdividedMeshKeepsItsSurfaceWithEdgesAtMostTheLengthAsked) {
+  const PointSet hexagon = make_lowpoly_cylinder(0.33, 0, 1.0, 6);
+  const auto area = [](const PointSet& m) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double total = 0;
+    for (Index f = 0; f < m.faces().cols(); ++f) {
+      const Eigen::Vector3d a = m.positions().col(m.faces()(0, f)), b = m.positions().col(m.faces()(1, f)),
+                            c = m.positions().col(m.faces()(2, f));
+      sum += (b - a).cross(c - a);
+      total += 0.5 * (b - a).cross(c - a).norm();
+    }
+    return std::make_pair(total, sum.norm());
+  };
+  const PointSet fine = subdivided_mesh(hexagon, 0.02, Index(1) << 21);
+  EXPECT_EQ(fine.faces().cols(), 12 * 4096 + 12 * 1024);
+  EXPECT_NEAR(area(fine).first, area(hexagon).first, 1e-9);
+  EXPECT_LT(area(fine).second, 1e-9) << "closed and wound as it was";
+  for (Index f = 0; f < fine.faces().cols(); ++f)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_LE((fine.positions().col(fine.faces()(k, f)) - fine.positions().col(fine.faces()((k + 1) % 3, f))).norm(),
+                0.02);
+  EXPECT_EQ(subdivided_mesh(hexagon, 0.02, 1000).faces().cols(), 12 * 64 + 12 * 16) << "the cap holds";
+  EXPECT_EQ(subdivided_mesh(hexagon, 2.0, 1000).faces().cols(), hexagon.faces().cols()) << "short enough already";
+  EXPECT_THROW(subdivided_mesh(PointSet(hexagon.positions()), 0.02, 1000), InputError);
+}
+
 TEST(Sample, MeshSamplesCarryFaceAndBarycentrics) {
   const PointSet mesh = make_cylinder(0.3, 1.0, 64);
   const SampleResult r = sample(mesh, {.count = 1000});
