@@ -905,7 +905,7 @@ Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const Kd
                       const CorrespondOptions& o, CorrespondResult& r) {
   const TemplateAxis t = template_axis(source, tree, spacing);
   const Similarity icp_fit = rigid_icp(exemplar, source, tree, o, r.rigid_rms);
-  if (t.facets.sides > 0) {
+  if (o.polygon_body && t.facets.sides > 0) {
     const PointSet body = circumscribed_body(source, t.axis, t.facets);
     KdTree body_tree;
     body_tree.build(body.positions());
@@ -920,6 +920,11 @@ Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const Kd
     }
   }
   return pose_on(exemplar, source, tree, icp_fit, t.round ? std::optional(t.axis) : std::nullopt, spacing, r);
+}
+
+// A landmark's place on the template, on the body where a polygon stands for it.
+Eigen::Vector3d on_body_if_any(const Eigen::Vector3d& p, const PolygonBody& body) {
+  return body.sides > 0 ? Eigen::Vector3d(on_polygon_body(PointSet(Eigen::Matrix3Xd(p)), body).positions().col(0)) : p;
 }
 
 // After the rigid registration r.rigid: the overlap check, then assignment alternating with embedded deformation onto
@@ -951,7 +956,8 @@ void deform_onto(const PointSet& exemplar, const PointSet& source, double spacin
   // Alternate assignment and embedded deformation, relaxing the stiffness.
   r.deformed = r.registered;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> landmarks;
-  for (const auto& l : user_landmarks(o, r.warnings)) landmarks.emplace_back(r.rigid.apply(l.exemplar), l.source);
+  for (const auto& l : user_landmarks(o, r.warnings))
+    landmarks.emplace_back(r.rigid.apply(l.exemplar), on_body_if_any(l.source, r.polygon));
   if (o.outer_iterations > 0 && exemplar.size() >= 4 * (kNodesPerPoint + 1)) {
     Deformation def(r.registered, spacing, o);
     std::vector<Binding> bindings(size_t(exemplar.size()));
@@ -998,8 +1004,16 @@ void deform_onto(const PointSet& exemplar, const PointSet& source, double spacin
 }  // namespace
 
 PointSet on_polygon_body(const PointSet& points, const PolygonBody& body) {
-  if (body.sides < kFewestSides) throw InvariantError("on_polygon_body: a polygon has at least 5 sides");
+  if (body.sides < kFewestSides || body.sides > kMostSides)
+    throw InvariantError("on_polygon_body: a polygon of " + std::to_string(body.sides) + " sides (5 to 32 are read)");
+  if (std::abs(body.direction.norm() - 1) > 1e-9)
+    throw InvariantError("on_polygon_body: the axis is not a unit vector");
   return circumscribed_body(points, {body.centre, body.direction}, {body.sides, body.phase});
+}
+
+PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing) {
+  constexpr Index kMostFaces = Index(1) << 21;
+  return on_polygon_body(surface.has_faces() ? subdivided_mesh(surface, spacing, kMostFaces) : surface, body);
 }
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,

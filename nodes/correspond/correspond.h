@@ -48,19 +48,24 @@ struct LandmarkFiles {
 };
 
 // A template that is a regular polygon about an axis (a low-poly cylinder, its vertices on the circle, as Blender,
-// OpenSCAD and trimesh draw one), read as the body of revolution through its corners. sides 0: none.
+// OpenSCAD and trimesh draw one), read as the body of revolution through its corners.
 struct PolygonBody {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();      // a point on the axis
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // the axis' unit direction
-  int sides = 0;
+  int sides = 0;                                         // 5 to 32; 0: none
   double phase = 0;  // the angle across the axis of one facet's outward normal, from direction.unitOrthogonal()
 };
 
 // `points` on the body of revolution a polygon draws: each moved away from the axis at its height and angle, so that
 // the polygon's rim lands on the circle through its corners (a facet's centre by 1 / cos(pi / sides), a corner not at
 // all), which lays walls on the body's wall and caps on its disks; a wall's normal turned across the axis to face
-// along its radius. Every other attribute (triangles, provenance, colours) is kept.
+// along its radius. Triangles, colours and indices are kept; curvatures, directions and face provenance describe the
+// polygon still. Throws InvariantError for other than 5 to 32 sides or an axis direction that is not a unit vector.
 PointSet on_polygon_body(const PointSet& points, const PolygonBody& body);
+
+// The surface the body's copies are made of: a template mesh split until its edges are at most `spacing` long (so
+// that its triangles bend round the body; at most 2^21 of them), then moved onto the body; a cloud only moved.
+PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing);
 
 struct CorrespondOptions {
   bool rigid = true;                  // rigid pre-alignment by ICP (roughly aligned inputs); false: the given pose
@@ -83,6 +88,8 @@ struct CorrespondOptions {
   Index min_samples = 50;          // fewer exemplar or source samples are refused; >= 4
   std::vector<Landmark> landmarks;
   LandmarkFiles landmarks_file;  // more landmarks, by name from two .pp files (empty paths: none)
+  bool polygon_body = true;  // a polygon template may stand for the body through its corners (PolygonBody): completion
+                             // only, where every later node takes the body (set by the engine, no key)
 };
 
 struct CorrespondResult {
