@@ -274,18 +274,17 @@ FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const Feat
 namespace {
 
 // The body of revolution a low-poly polygon template draws (CorrespondResult::polygon), in the template's place from
-// the correspondence on: its samples with their features estimated again, and the surface copies are made of (at the
-// output's density, as copy_surface makes it for the plan), all moved onto the body.
-FeaturedPtr body_in_place_of(const RunConfig& config, const Featured& templ, const Featured& scan,
-                             const PolygonBody& body) {
+// the correspondence on (completion): its samples with their features estimated again, and the surface copies are
+// made of (polygon_body_surface), all on the body.
+FeaturedPtr body_in_place_of(RunState& state, const Featured& templ, const PolygonBody& body) {
   auto loaded = std::make_shared<Loaded>(*templ.sampled->loaded);
-  loaded->load.points = on_polygon_body(copy_surface(loaded->load.points, scan.sampled->loaded->points(),
-                                                     scan.features.points.size(), templ.features.points.size()),
-                                        body);
+  loaded->load.points = polygon_body_surface(loaded->load.points, body, templ.sampled->sample.spacing);
+  loaded->box = input_bounds(loaded->load);
   auto sampled = std::make_shared<Sampled>(*templ.sampled);
   sampled->loaded = std::move(loaded);
   sampled->sample.samples = on_polygon_body(templ.sampled->sample.samples, body);
-  FeaturesResult features = estimate_features(sampled->sample.samples, config.features);
+  FeaturesResult features = estimate_features(sampled->sample.samples, state.config.features);
+  for (const auto& w : features.warnings) state.warn("features:template", w);
   return std::make_shared<const Featured>(Featured{std::move(sampled), std::move(features)});
 }
 
@@ -297,9 +296,11 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     c->exemplar = exemplar;
     c->source = source;
     const PointSet& E = exemplar->features.points;
-    c->map = correspond(E, source->features.points, source->sampled->sample.spacing, state.config.correspond, progress);
+    CorrespondOptions options = state.config.correspond;
+    options.polygon_body = state.config.mode == RunMode::kCompletion;
+    c->map = correspond(E, source->features.points, source->sampled->sample.spacing, options, progress);
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
-    if (c->map.polygon.sides > 0) c->source = body_in_place_of(state.config, *source, *exemplar, c->map.polygon);
+    if (c->map.polygon.sides > 0) c->source = body_in_place_of(state, *source, c->map.polygon);
     node_logger("correspond")
         ->info(
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}{}; {} of {} exemplar samples matched, RMS "
