@@ -87,7 +87,7 @@ TEST(EndToEnd, FlutedColumnWithACylinderTemplate) {
 // centres lie 4.4 cm inside that circle, and the vase's bulge up to 11 cm outside them. Registered on the body of
 // revolution through the hexagon's corners (stop 58) but labelled, carried and copied on the hexagon, the vase's images
 // did not reach the facets' centres, and flat copies of them were left inside it: F 0.712, unseen-detail 0.535 here
-// (3000 samples, 320 by 320 rays). The body stands in for the hexagon from the correspondence on: 0.919 / 0.945, and
+// (3000 samples, 320 by 320 rays). The body stands in for the hexagon from the correspondence on: 0.913 / 0.945, and
 // the template the analogy labels (analogy.ply) is round.
 TEST(EndToEnd, AHexagonDrawnForTheVaseStandsInAsTheBodyThroughItsCorners) {
   setup_logging(false, true);
@@ -110,7 +110,7 @@ TEST(EndToEnd, AHexagonDrawnForTheVaseStandsInAsTheBodyThroughItsCorners) {
       score(read_point_set(dir / "out" / "output.ply").points, reference, virtual_scan(reference, so).points, hexagon);
   std::printf("vase in a hexagon: F %.3f unseen %.3f\n", ours.fscore, ours.unseen);
   EXPECT_GE(ours.fscore, 0.88);
-  EXPECT_GE(ours.unseen, 0.8);
+  EXPECT_GE(ours.unseen, 0.85);
   const PointSet labelled = read_point_set(dir / "out" / "analogy.ply").points;
   for (Index i = 0; i < labelled.size(); ++i) {
     const double z = labelled.positions()(2, i), radius = labelled.positions().col(i).head<2>().norm();
