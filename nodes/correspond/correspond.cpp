@@ -372,8 +372,9 @@ Similarity turned_in_place(const PointSet& exemplar, const PointSet& source, con
 
 // A turn about the axis that is no rotational symmetry of a polygon of up to 24 sides (a 24-gon's facets are 15
 // degrees apart), and the share of the template's samples it must leave on the template. It is within a degree of a
-// 10- and a 20-gon's (36 degrees), which may lie on themselves nearly enough to count as round; whether a template is
-// a polygon is asked of every template all the same (sides_about), round or not.
+// 10- and a 20-gon's (36 degrees), which may lie on themselves nearly enough to count as round. It decides only
+// whether ICP's turn about the axis is taken out (registration_or_input_pose); whether the template is a polygon is
+// asked of round templates too (template_axis).
 constexpr double kSymmetryProbe = 37.0 * M_PI / 180;
 constexpr double kOnItself = 0.9;
 
@@ -873,7 +874,7 @@ Similarity pose_on(const PointSet& exemplar, const PointSet& source, const KdTre
 // The template's axis (axis_from_normals), whether its normals meet it (kRoundTemplate), and the facets of the
 // regular polygon it is about that axis (facets_about; none for a body of revolution), with how nearly their normals
 // meet it (wall_misfit). A polygon may count as round (the vase's 10-gon turned 37 degrees lies on itself), and is
-// still asked: its body scored the vase in it F 0.877 -> 0.916 from behind obliquely.
+// still asked (Correspond.AsksATemplateThatCountsAsRoundWhetherItIsAPolygon).
 struct TemplateAxis {
   RevolutionAxis axis;
   bool round = false;
