@@ -278,7 +278,8 @@ namespace {
 // made of (polygon_body_surface), all on the body.
 FeaturedPtr body_in_place_of(RunState& state, const Featured& templ, const PolygonBody& body) {
   auto loaded = std::make_shared<Loaded>(*templ.sampled->loaded);
-  loaded->load.points = polygon_body_surface(loaded->load.points, body, templ.sampled->sample.spacing);
+  loaded->load.points = polygon_body_surface(loaded->load.points, body, templ.sampled->sample.spacing,
+                                             templ.sampled->sample.samples.size());
   loaded->box = input_bounds(loaded->load);
   auto sampled = std::make_shared<Sampled>(*templ.sampled);
   sampled->loaded = std::move(loaded);

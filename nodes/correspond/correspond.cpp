@@ -1012,9 +1012,8 @@ PointSet on_polygon_body(const PointSet& points, const PolygonBody& body) {
   return circumscribed_body(points, {body.centre, body.direction}, {body.sides, body.phase});
 }
 
-PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing) {
-  constexpr Index kMostFaces = Index(1) << 21;
-  return on_polygon_body(surface.has_faces() ? subdivided_mesh(surface, spacing, kMostFaces) : surface, body);
+PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing, Index most_faces) {
+  return on_polygon_body(surface.has_faces() ? subdivided_mesh(surface, spacing, most_faces) : surface, body);
 }
 
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,

@@ -64,8 +64,11 @@ struct PolygonBody {
 PointSet on_polygon_body(const PointSet& points, const PolygonBody& body);
 
 // The surface the body's copies are made of: a template mesh split until its edges are at most `spacing` long (so
-// that its triangles bend round the body; at most 2^21 of them), then moved onto the body; a cloud only moved.
-PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing);
+// that its triangles bend round the body), into at most `most_faces` triangles, then moved onto the body; a cloud only
+// moved. With as many triangles at most as the template has samples, the split mesh has fewer vertices than samples,
+// so the transfer draws copies from it at random, evenly over its area (copy_surface), not at its vertices, which
+// crowd along a long thin triangle's short sides.
+PointSet polygon_body_surface(const PointSet& surface, const PolygonBody& body, double spacing, Index most_faces);
 
 struct CorrespondOptions {
   bool rigid = true;                  // rigid pre-alignment by ICP (roughly aligned inputs); false: the given pose

@@ -257,20 +257,23 @@ PointSet triangle_alone(const Eigen::Matrix3Xd& P, const Eigen::Matrix<std::int3
   return out;
 }
 
-// The triangles `splits` leaves whole, each with corners of its own.
+// The triangles `splits` leaves whole, on the mesh's own (shared) vertices that they use.
 PointSet unsplit_triangles(const Eigen::Matrix3Xd& P, const Matrix3Xi& F, const std::vector<int>& splits) {
-  const auto whole = Index(std::count(splits.begin(), splits.end(), 0));
-  Eigen::Matrix3Xd Q(3, 3 * whole);
-  Matrix3Xi G(3, whole);
-  for (Index f = 0, w = 0; f < F.cols(); ++f) {
+  std::vector<std::int32_t> index(size_t(P.cols()), -1);
+  std::vector<Index> used;
+  std::vector<Eigen::Matrix<std::int32_t, 3, 1>> faces;
+  for (Index f = 0; f < F.cols(); ++f) {
     if (splits[size_t(f)] != 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      Q.col(3 * w + k) = P.col(F(k, f));
-      G(k, w) = std::int32_t(3 * w + k);
-    }
-    ++w;
+    for (int k = 0; k < 3; ++k)
+      if (index[size_t(F(k, f))] < 0) {
+        index[size_t(F(k, f))] = std::int32_t(used.size());
+        used.push_back(F(k, f));
+      }
+    faces.emplace_back(index[size_t(F(0, f))], index[size_t(F(1, f))], index[size_t(F(2, f))]);
   }
-  PointSet out(std::move(Q));
+  Matrix3Xi G(3, Index(faces.size()));
+  for (size_t f = 0; f < faces.size(); ++f) G.col(Index(f)) = faces[f];
+  PointSet out(P(Eigen::all, used));
   out.set_faces(std::move(G));
   return out;
 }
@@ -353,6 +356,11 @@ PointSet subdivided_mesh(const PointSet& mesh, double longest_edge, Index most_f
   };
   while (faces_made() > most_faces && *std::max_element(splits.begin(), splits.end()) > 0)
     for (int& s : splits) s = std::max(0, s - 1);
+  if (std::all_of(splits.begin(), splits.end(), [](int s) { return s == 0; })) {
+    PointSet same(P);
+    same.set_faces(F);
+    return same;
+  }
   std::vector<PointSet> parts(1, unsplit_triangles(P, F, splits));
   for (Index f = 0; f < F.cols(); ++f) {
     if (splits[size_t(f)] == 0) continue;

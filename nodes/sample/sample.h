@@ -60,9 +60,9 @@ PointSet random_surface_points_where(const PointSet& mesh, Index n, std::uint64_
 
 // `mesh`'s triangles each split into four at its edges' midpoints as often as it takes for its own longest edge to be
 // at most `longest_edge` (so its points spread as evenly as the mesh's area), all of them once fewer while that would
-// make more than `most_faces` triangles. Each triangle is split apart from its neighbours: a surface to sample (its
-// vertices are not merged, and neighbours split differently meet at T-junctions). Positions and triangles only.
-// Throws InputError for a cloud.
+// make more than `most_faces` triangles. Each split triangle is split apart from its neighbours: a surface to sample
+// (its vertices are not merged, and neighbours split differently meet at T-junctions); triangles left whole keep the
+// mesh's shared vertices. Positions and triangles only. Throws InputError for a cloud.
 PointSet subdivided_mesh(const PointSet& mesh, double longest_edge, Index most_faces);
 
 // Sampling a cloud too large to hold (issue 13), from a PointChunks source in two passes.
