@@ -235,16 +235,10 @@ PointSet merge_duplicates(const PointSet& cloud, Index& merged) {
   return out;
 }
 
-}  // namespace
-
-namespace {
-
-double longest_edge_of(const PointSet& mesh) {
-  const Eigen::Matrix3Xd& P = mesh.positions();
-  const Matrix3Xi& F = mesh.faces();
+// The longest of a triangle's three edges.
+double longest_edge_of(const Eigen::Matrix3Xd& P, const Eigen::Matrix<std::int32_t, 3, 1>& corners) {
   double longest = 0;
-  for (Index f = 0; f < F.cols(); ++f)
-    for (int k = 0; k < 3; ++k) longest = std::max(longest, (P.col(F(k, f)) - P.col(F((k + 1) % 3, f))).norm());
+  for (int k = 0; k < 3; ++k) longest = std::max(longest, (P.col(corners(k)) - P.col(corners((k + 1) % 3))).norm());
   return longest;
 }
 
@@ -345,10 +339,8 @@ PointSet subdivided_mesh(const PointSet& mesh, double longest_edge, Index most_f
   const Eigen::Matrix3Xd& P = mesh.positions();
   const Matrix3Xi& F = mesh.faces();
   std::vector<int> splits(size_t(F.cols()));
-  for (Index f = 0; f < F.cols(); ++f) {
-    const PointSet corners = triangle_alone(P, F.col(f));
-    splits[size_t(f)] = int(std::ceil(std::log2(std::max(1.0, longest_edge_of(corners) / longest_edge))));
-  }
+  for (Index f = 0; f < F.cols(); ++f)
+    splits[size_t(f)] = int(std::ceil(std::log2(std::max(1.0, longest_edge_of(P, F.col(f)) / longest_edge))));
   const auto faces_made = [&] {
     Index n = 0;
     for (const int s : splits) n += Index(1) << (2 * s);
