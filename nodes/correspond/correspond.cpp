@@ -928,31 +928,34 @@ Eigen::Vector3d on_body_if_any(const Eigen::Vector3d& p, const PolygonBody& body
   return body.sides > 0 ? Eigen::Vector3d(on_polygon_body(PointSet(Eigen::Matrix3Xd(p)), body).positions().col(0)) : p;
 }
 
+// Throws InputError unless at least min_overlap of `points` lie within `within` of the source (`tree`): `when` says at
+// which step ("" before registration), `limit` how `within` was chosen.
+void require_overlap(const KdTree& tree, const Eigen::Matrix3Xd& points, double within, const CorrespondOptions& o,
+                     const std::string& when, const std::string& limit) {
+  const double share = share_within(tree, points, within);
+  if (share >= o.min_overlap) return;
+  throw InputError("the exemplar (scan) and the source (template) do not overlap: " + when + "only " +
+                   std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
+                   std::to_string(within) + " of the template (" + limit + "at least " +
+                   std::to_string(int(std::round(100 * o.min_overlap))) +
+                   "% needed); inputs must be roughly aligned and at the same scale");
+}
+
 // After the rigid registration r.rigid: the overlap check, then assignment alternating with embedded deformation onto
-// `source`, and the matches.
-void deform_onto(const PointSet& exemplar, const PointSet& source, double spacing, const CorrespondOptions& o,
-                 const ProgressFn& progress, CorrespondResult& r) {
+// `source` (its samples in `tree`), and the matches.
+void deform_onto(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
+                 const CorrespondOptions& o, const ProgressFn& progress, CorrespondResult& r) {
   const double ds = bounding_box(source.positions()).diagonal();
-  KdTree tree;
-  tree.build(source.positions());
   r.registered.resize(3, exemplar.size());
   Eigen::Matrix3Xd normals(3, exemplar.size());
   for (Index i = 0; i < exemplar.size(); ++i) {
     r.registered.col(i) = r.rigid.apply(exemplar.positions().col(i));
     normals.col(i) = exemplar.has_normals() ? r.rigid.apply_normal(exemplar.normals().col(i)) : Eigen::Vector3d::Zero();
   }
-  {
-    // A scan laid on the template's axis may stand off it in profile (a vase in a cylinder): it must lie as near as
-    // the inputs had to before registration.
-    const double near = r.laid_on_axis ? std::max(o.escape_distance * spacing, 0.1 * ds) : o.escape_distance * spacing;
-    const double share = share_within(tree, r.registered, near);
-    if (share < o.min_overlap)
-      throw InputError("the exemplar (scan) and the source (template) do not overlap: after rigid registration only " +
-                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
-                       std::to_string(near) + " of the template (at least " +
-                       std::to_string(int(std::round(100 * o.min_overlap))) +
-                       "% needed); inputs must be roughly aligned and at the same scale");
-  }
+  // A scan laid on the template's axis may stand off it in profile (a vase in a cylinder): it must lie as near as the
+  // inputs had to before registration.
+  const double near = r.laid_on_axis ? std::max(o.escape_distance * spacing, 0.1 * ds) : o.escape_distance * spacing;
+  require_overlap(tree, r.registered, near, o, "after rigid registration ", "");
 
   // Alternate assignment and embedded deformation, relaxing the stiffness.
   r.deformed = r.registered;
@@ -1032,22 +1035,18 @@ CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, do
 
   // Roughly aligned inputs (paper section 3) overlap before any registration: ICP from a pose that shares nothing
   // with the template would only find some arbitrary local fit.
-  {
-    const double loose = std::max(o.escape_distance * spacing, 0.1 * ds);
-    const double share = share_within(tree, exemplar.positions(), loose);
-    if (share < o.min_overlap)
-      throw InputError("the exemplar (scan) and the source (template) do not overlap: only " +
-                       std::to_string(int(std::round(100 * share))) + "% of the scan's samples lie within " +
-                       std::to_string(loose) + " of the template (10% of its diagonal; at least " +
-                       std::to_string(int(std::round(100 * o.min_overlap))) +
-                       "% needed); inputs must be roughly aligned and at the same scale");
-  }
+  require_overlap(tree, exemplar.positions(), std::max(o.escape_distance * spacing, 0.1 * ds), o, "",
+                  "10% of its diagonal; ");
   if (o.rigid) r.rigid = rigid_pose(exemplar, source, tree, spacing, o, r);
   report(progress, 0.2);
-  if (r.polygon.sides > 0)
-    deform_onto(exemplar, on_polygon_body(source, r.polygon), spacing, o, progress, r);
-  else
-    deform_onto(exemplar, source, spacing, o, progress, r);
+  if (r.polygon.sides == 0) {
+    deform_onto(exemplar, source, tree, spacing, o, progress, r);
+    return r;
+  }
+  const PointSet body = on_polygon_body(source, r.polygon);
+  KdTree body_tree;
+  body_tree.build(body.positions());
+  deform_onto(exemplar, body, body_tree, spacing, o, progress, r);
   return r;
 }
 
