@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace scanfill::test {
 
@@ -78,6 +82,45 @@ inline CommandResult run_scanfill(const std::string& args) {
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// An integer vertex property of a PLY that write_ply wrote (binary little-endian, float/uchar/int properties).
+inline std::vector<int> ply_property(const std::filesystem::path& file, const char* name) {
+  const std::string data = read_bytes(file);
+  const size_t end = data.find("end_header\n") + std::strlen("end_header\n");
+  std::istringstream header(data.substr(0, end));
+  std::string line;
+  long long n = 0;
+  size_t stride = 0, offset = 0, size = 0;
+  bool in_vertex = false;
+  while (std::getline(header, line)) {
+    std::istringstream words(line);
+    std::string word, type, prop;
+    words >> word;
+    if (word == "element") {
+      std::string element;
+      words >> element;
+      in_vertex = element == "vertex";
+      if (in_vertex) words >> n;
+    } else if (word == "property" && in_vertex) {
+      words >> type >> prop;
+      const size_t bytes = type == "uchar" ? 1 : 4;
+      if (prop == name) offset = stride, size = bytes;
+      stride += bytes;
+    }
+  }
+  std::vector<int> values;
+  if (size == 0) return values;
+  for (long long i = 0; i < n; ++i) {
+    const char* p = data.data() + end + size_t(i) * stride + offset;
+    std::int32_t v = 0;
+    if (size == 1)
+      v = std::uint8_t(*p);
+    else
+      std::memcpy(&v, p, 4);
+    values.push_back(v);
+  }
+  return values;
 }
 
 }  // namespace scanfill::test

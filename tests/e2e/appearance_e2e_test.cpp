@@ -59,8 +59,6 @@ std::string config(const std::filesystem::path& scan, const std::filesystem::pat
          (colour ? std::string("  colour: ") + colour + "\n" : "") + "sample:\n  count: 8000\n";
 }
 
-std::vector<int> ply_property(const std::filesystem::path& file, const char* name);
-
 TEST(Appearance, TheScansColoursAndIntensityReachTheOutputPointsTheyBecame) {
   test::TempDir dir;
   const PointSet scan = coloured_scan(dir / "scan.ply");
@@ -76,7 +74,7 @@ TEST(Appearance, TheScansColoursAndIntensityReachTheOutputPointsTheyBecame) {
   const PointSet& out = loaded.points;
   ASSERT_TRUE(out.has_colours());
   ASSERT_TRUE(out.has_intensity());
-  const std::vector<int> origin = ply_property(dir / "out1" / "output.ply", "origin");
+  const std::vector<int> origin = test::ply_property(dir / "out1" / "output.ply", "origin");
   ASSERT_EQ(Index(origin.size()), out.size());
   Index from_scan[2] = {0, 0}, copied = 0;
   for (Index i = 0; i < out.size(); ++i) {
@@ -134,45 +132,6 @@ TEST(Appearance, OutputColourScanRefusesAScanWithoutColours) {
   EXPECT_NE(r.out.find("output.colour is 'scan' but the scan has no colours"), std::string::npos) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
-}
-
-// An integer vertex property of a PLY that write_ply wrote (binary little-endian, float/uchar/int properties).
-std::vector<int> ply_property(const std::filesystem::path& file, const char* name) {
-  const std::string data = test::read_bytes(file);
-  const size_t end = data.find("end_header\n") + std::strlen("end_header\n");
-  std::istringstream header(data.substr(0, end));
-  std::string line;
-  Index n = 0;
-  size_t stride = 0, offset = 0, size = 0;
-  bool in_vertex = false;
-  while (std::getline(header, line)) {
-    std::istringstream words(line);
-    std::string word, type, prop;
-    words >> word;
-    if (word == "element") {
-      std::string element;
-      words >> element;
-      in_vertex = element == "vertex";
-      if (in_vertex) words >> n;
-    } else if (word == "property" && in_vertex) {
-      words >> type >> prop;
-      const size_t bytes = type == "uchar" ? 1 : 4;
-      if (prop == name) offset = stride, size = bytes;
-      stride += bytes;
-    }
-  }
-  std::vector<int> values;
-  if (size == 0) return values;
-  for (Index i = 0; i < n; ++i) {
-    const char* p = data.data() + end + size_t(i) * stride + offset;
-    std::int32_t v = 0;
-    if (size == 1)
-      v = std::uint8_t(*p);
-    else
-      std::memcpy(&v, p, 4);
-    values.push_back(v);
-  }
-  return values;
 }
 
 }  // namespace
