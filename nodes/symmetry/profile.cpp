@@ -1,0 +1,74 @@
+#include "nodes/symmetry/profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace scanfill {
+
+namespace {
+
+constexpr Index kBandSamples = 8;  // a band's median needs at least this many samples
+constexpr double kOutward = 0.7;   // a sample counts when its normal lies within 45 degrees of straight out
+
+double median_of(std::vector<double>& v) {
+  const auto mid = v.begin() + Index(v.size()) / 2;
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// The profile's radius at `height`, NaN outside it or where its band holds too few samples.
+double radius_at(const RadialProfile& p, double height) {
+  const double b = std::floor((height - p.lowest) / p.band);
+  if (!(b >= 0 && b < double(p.radius.size()))) return std::numeric_limits<double>::quiet_NaN();
+  return p.radius[std::size_t(b)];
+}
+
+}  // namespace
+
+RadialProfile radial_profile(const PointSet& exemplar, const Similarity& to_template, const SymmetryAxis& axis,
+                             double spacing) {
+  RadialProfile p;
+  p.axis = axis;
+  p.band = 2 * spacing;
+  std::vector<double> heights, radii;
+  for (Index e = 0; e < exemplar.size(); ++e) {
+    const Eigen::Vector3d x = to_template.apply(exemplar.positions().col(e)) - axis.centre;
+    const double h = axis.direction.dot(x);
+    const Eigen::Vector3d across = x - axis.direction * h;
+    if (exemplar.has_normals() &&
+        to_template.apply_normal(exemplar.normals().col(e)).dot(across) <= kOutward * across.norm())
+      continue;
+    heights.push_back(h);
+    radii.push_back(across.norm());
+  }
+  if (heights.empty()) return p;
+  const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+  p.lowest = *lo;
+  const std::size_t bands = std::size_t((*hi - *lo) / p.band) + 1;
+  std::vector<std::vector<double>> in_band(bands);
+  for (std::size_t e = 0; e < heights.size(); ++e)
+    in_band[std::min(bands - 1, std::size_t((heights[e] - p.lowest) / p.band))].push_back(radii[e]);
+  p.radius.assign(bands, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t b = 0; b < bands; ++b)
+    if (Index(in_band[b].size()) >= kBandSamples) p.radius[b] = median_of(in_band[b]);
+  return p;
+}
+
+bool profile_refutes(const RadialProfile& profile, const Similarity& q, double tolerance) {
+  const Eigen::Vector3d& d = profile.axis.direction;
+  if (std::abs((q.rotation * d).dot(d)) < std::cos(M_PI / 6)) return false;  // not along the axis: not judged
+  Index compared = 0, disagreeing = 0;
+  for (std::size_t b = 0; b < profile.radius.size(); ++b) {
+    if (std::isnan(profile.radius[b])) continue;
+    const double h = profile.lowest + (double(b) + 0.5) * profile.band;
+    const double image = d.dot(q.apply(profile.axis.centre + h * d) - profile.axis.centre);
+    const double r = radius_at(profile, image);
+    if (std::isnan(r)) continue;
+    ++compared;
+    disagreeing += std::abs(r / q.scale - profile.radius[b]) > tolerance;
+  }
+  return compared >= 3 && 4 * disagreeing >= compared;
+}
+
+}  // namespace scanfill

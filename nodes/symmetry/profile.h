@@ -1,0 +1,43 @@
+// The scan's own profile about a round template's axis, which tells whether the object is symmetric end over end
+// (DESIGN section 9: the target's symmetries, fixed against the exemplar).
+//
+// A plain cylinder lies on itself turned end over end, so its half turns about lines across its axis are candidates
+// (composed_candidates, and voting finds them too), and they fit the template as well as the turns about its axis.
+// The object need not be symmetric so: a vase seen from below has its foot's beads carried to its neck by them, and
+// its flared lip below its foot. Only the scan can tell. Where it saw both ends of a height that a flip pairs (the
+// flip's image of height h comes from height h' of the scan), its radii there say whether the flip is the object's.
+#pragma once
+
+#include <vector>
+
+#include "nodes/core/point_set.h"
+#include "nodes/core/similarity.h"
+#include "nodes/symmetry/symmetry.h"
+
+namespace scanfill {
+
+// Per band of heights along the axis, 2 alpha thick from `lowest`, the median distance from the axis of the
+// exemplar's outer wall there (carried into the template's frame by `to_template`): its samples whose normal lies
+// within 45 degrees of straight out from the axis. A cap (a flat end seen from one side only), a vase's inside seen
+// through its mouth and a ring's inner side are left out: with them, a band's median would depend on how much of each
+// the view shows. NaN where a band holds fewer than 8.
+struct RadialProfile {
+  SymmetryAxis axis;
+  double lowest = 0;  // height of the first band's lower edge along axis.direction, from axis.centre
+  double band = 0;    // the bands' thickness
+  std::vector<double> radius;
+};
+
+RadialProfile radial_profile(const PointSet& exemplar, const Similarity& to_template, const SymmetryAxis& axis,
+                             double spacing);
+
+// Whether the profile refutes q (target -> source, both in the template's frame), which keeps the axis along itself
+// (within 30 degrees either way; others are not judged): over the bands whose height and its image's source height
+// (the height q carries a point of the axis to) both hold a radius, at least 3, a quarter or more disagree by more
+// than `tolerance` (the source's radius taken back by q's scale). A symmetry of the object holds at every height the
+// scan saw; a vase's middle can be nearly symmetric about its belly while its foot and lip are not. A turn about the
+// axis pairs each band with itself and is never refuted; a flip or a slide along the axis the scan cannot judge (too
+// few such bands) is not refuted either.
+bool profile_refutes(const RadialProfile& profile, const Similarity& q, double tolerance);
+
+}  // namespace scanfill
