@@ -387,7 +387,8 @@ nlohmann::json symmetry_json(const Labelled& a) {
           {"target_parts", parts(s.target_symmetry)},
           {"votes_quotiented", bool(s.source_symmetry.continuous)},
           {"voted_transforms", a.supports->voted},
-          {"composed_candidates", a.supports->composed}};
+          {"composed_candidates", a.supports->composed},
+          {"refuted_by_scan_profile", a.supports->refuted}};
 }
 
 // Mode exchange: a part box as the report writes it.

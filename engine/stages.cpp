@@ -14,6 +14,7 @@
 #include "nodes/procedural/castle.h"
 #include "nodes/scan/virtual_scan.h"
 #include "nodes/symmetry/plain_faces.h"
+#include "nodes/symmetry/profile.h"
 #include "nodes/synthesize/repeats.h"
 
 namespace scanfill {
@@ -439,6 +440,25 @@ bool scan_repeats_about_axis(const Votes& v, double limit) {
                        limit);
 }
 
+// Completion, a round target: the candidates that the scan's own profile about its axis refutes (symmetry/profile.h),
+// dropped from `candidates` (modes or transforms), and said: flips end over end and slides along the axis that pair
+// heights where the scan's radii differ. A plain cylinder lies on itself so; a vase seen from below had its foot's
+// beads carried to its neck.
+template <typename Candidate>
+Index drop_what_the_scan_refutes(std::vector<Candidate>& candidates, const Votes& v, double tolerance) {
+  const auto& axis = v.symmetries->target_symmetry.continuous;
+  if (!axis) return 0;
+  const Correspondence& scan = *v.symmetries->correspondence;
+  const RadialProfile profile = radial_profile(scan.exemplar->features.points, scan.map.rigid, *axis, v.spacing());
+  const auto refuted =
+      std::erase_if(candidates, [&](const Candidate& c) { return profile_refutes(profile, c.transform, tolerance); });
+  if (refuted > 0)
+    node_logger("support")->info(
+        "{} candidates dropped: they pair heights along the target's axis where the scan's radii about it differ",
+        refuted);
+  return Index(refuted);
+}
+
 }  // namespace
 
 SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
@@ -455,15 +475,18 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     const PointSet& T = v.target()->features.points;
     SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
+    const Correspondence* scan = v.symmetries->correspondence.get();
+    const double refuting = config.support.distance * v.spacing();
+    if (scan) s->refuted += drop_what_the_scan_refutes(voted.transforms, v, refuting);
     if (const auto& axis = v.symmetries->source_symmetry.continuous)
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const SymmetryResult& symmetry = v.symmetries->target_symmetry;
     s->up = up_direction(config.label, v);
-    const Correspondence* scan = v.symmetries->correspondence.get();
-    const std::vector<Mode> composed =
+    std::vector<Mode> composed =
         composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,
                             scan ? &scan->exemplar->features.points : nullptr, scan ? scan->map.rigid : Similarity{});
+    if (scan) s->refuted += drop_what_the_scan_refutes(composed, v, refuting);
     // Where T's turns all explain the scan alike, voting finds turns at random angles: the quarter turns eq. 9
     // prefers are offered too, unless the scan's own repeats phase every image (synthesize).
     s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());

@@ -93,6 +93,7 @@ struct Supports {
   SupportResult support;
   Index voted = 0;                                // transforms grown from the modes
   Index composed = 0;                             // candidates composed with the target's symmetries
+  Index refuted = 0;                              // completion: candidates the scan's radii about T's axis refute
   bool scan_repeats = false;                      // completion: the scan repeats about the target's axis
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else the axis of the faces
                                                   // the scan shows plainest, else +z (label and synthesize use it)
