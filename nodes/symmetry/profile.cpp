@@ -8,13 +8,13 @@ namespace scanfill {
 
 namespace {
 
-constexpr Index kBandSamples = 8;  // a band's median needs at least this many samples
+constexpr Index kBandSamples = 8;  // a band's radius needs at least this many samples
 constexpr double kOutward = 0.7;   // a sample counts when its normal lies within 45 degrees of straight out
 
-double median_of(std::vector<double>& v) {
-  const auto mid = v.begin() + Index(v.size()) / 2;
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
+double lower_quartile_of(std::vector<double>& v) {
+  const auto at = v.begin() + Index(v.size()) / 4;
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
 }
 
 // The profile's radius at `height`, NaN outside it or where its band holds too few samples.
@@ -51,7 +51,7 @@ RadialProfile radial_profile(const PointSet& exemplar, const Similarity& to_temp
     in_band[std::min(bands - 1, std::size_t((heights[e] - p.lowest) / p.band))].push_back(radii[e]);
   p.radius.assign(bands, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t b = 0; b < bands; ++b)
-    if (Index(in_band[b].size()) >= kBandSamples) p.radius[b] = median_of(in_band[b]);
+    if (Index(in_band[b].size()) >= kBandSamples) p.radius[b] = lower_quartile_of(in_band[b]);
   return p;
 }
 

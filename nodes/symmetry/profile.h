@@ -16,11 +16,12 @@
 
 namespace scanfill {
 
-// Per band of heights along the axis, 2 alpha thick from `lowest`, the median distance from the axis of the
-// exemplar's outer wall there (carried into the template's frame by `to_template`): its samples whose normal lies
-// within 45 degrees of straight out from the axis. A cap (a flat end seen from one side only), a vase's inside seen
-// through its mouth and a ring's inner side are left out: with them, a band's median would depend on how much of each
-// the view shows. NaN where a band holds fewer than 8.
+// Per band of heights along the axis, 2 alpha thick from `lowest`, the lower quartile of the distances from the axis
+// of the exemplar's outer wall there (carried into the template's frame by `to_template`): its samples whose normal
+// lies within 45 degrees of straight out from the axis. A cap (a flat end seen from one side only), a vase's inside
+// seen through its mouth and a ring's inner side are left out, and the quartile is the body under relief that stands
+// out of it: a band's radius would otherwise depend on how much of each the view shows (a ring's beads seen from
+// below show their lower halves only). NaN where a band holds fewer than 8.
 struct RadialProfile {
   SymmetryAxis axis;
   double lowest = 0;  // height of the first band's lower edge along axis.direction, from axis.centre
