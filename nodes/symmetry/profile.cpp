@@ -8,8 +8,9 @@ namespace scanfill {
 
 namespace {
 
-constexpr Index kBandSamples = 8;  // a band's radius needs at least this many samples
-constexpr double kOutward = 0.7;   // a sample counts when its normal lies within 45 degrees of straight out
+constexpr Index kBandSamples = 8;     // a band's radius needs at least this many samples
+constexpr double kOutward = 0.7;      // a sample counts when its normal lies within 45 degrees of straight out
+constexpr Index kMostBands = 100000;  // more bands than this: no profile
 
 double lower_quartile_of(std::vector<double>& v) {
   const auto at = v.begin() + Index(v.size()) / 4;
@@ -42,8 +43,10 @@ RadialProfile radial_profile(const PointSet& exemplar, const Similarity& to_temp
     heights.push_back(h);
     radii.push_back(across.norm());
   }
-  if (heights.empty()) return p;
+  if (heights.empty() || !(p.band > 0)) return p;
   const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+  // A stray point far along the axis would ask for bands by the million, nearly all empty: such a scan is not judged.
+  if (!((*hi - *lo) / p.band < double(kMostBands))) return p;
   p.lowest = *lo;
   const std::size_t bands = std::size_t((*hi - *lo) / p.band) + 1;
   std::vector<std::vector<double>> in_band(bands);

@@ -21,7 +21,8 @@ namespace scanfill {
 // lies within 45 degrees of straight out from the axis. A cap (a flat end seen from one side only), a vase's inside
 // seen through its mouth and a ring's inner side are left out, and the quartile is the body under relief that stands
 // out of it: a band's radius would otherwise depend on how much of each the view shows (a ring's beads seen from
-// below show their lower halves only). NaN where a band holds fewer than 8.
+// below show their lower halves only). NaN where a band holds fewer than 8. No bands (nothing judged) where the
+// samples span more than 100000 of them along the axis (a stray point far off).
 struct RadialProfile {
   SymmetryAxis axis;
   double lowest = 0;  // height of the first band's lower edge along axis.direction, from axis.centre

@@ -574,6 +574,10 @@ TEST(RadialProfile, RefutesAFlipOrASlideAlongTheAxisWhereTheScansRadiiDiffer) {
   for (Index i = 0; i < vase.size(); ++i)
     if (vase.positions()(2, i) < 0.45) lower.push_back(std::int32_t(i));
   EXPECT_FALSE(profile_refutes(radial_profile(subset(vase, lower), Similarity{}, axis, alpha), flip, 2 * alpha));
+  // A stray point far along the axis leaves the scan unjudged, not profiled in millions of bands.
+  Eigen::Matrix3Xd with_stray(3, vase.size() + 1);
+  with_stray << vase.positions(), Eigen::Vector3d(0.3, 0, 1e7);
+  EXPECT_TRUE(radial_profile(PointSet(with_stray), Similarity{}, axis, alpha).radius.empty());
   // The same scan carried into the template's frame by its registration judges alike.
   const Similarity lifted{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.2, -0.1, 0.5), 1.0};
   EXPECT_TRUE(profile_refutes(radial_profile(moved_by(vase, lifted), lifted.inverse(), axis, alpha), flip, 2 * alpha));
