@@ -440,18 +440,24 @@ bool scan_repeats_about_axis(const Votes& v, double limit) {
                        limit);
 }
 
-// Completion, a round target: the candidates that the scan's own profile about its axis refutes (symmetry/profile.h),
-// dropped from `candidates` (modes or transforms), and said: flips end over end and slides along the axis that pair
-// heights where the scan's radii differ. A plain cylinder lies on itself so; a vase seen from below had its foot's
+// Completion, a round target: the scan's own profile about its axis (symmetry/profile.h), which judges the candidates
+// that move heights along it. A plain cylinder lies on itself end over end; a vase seen from below had its foot's
 // beads carried to its neck.
-template <typename Candidate>
-Index drop_what_the_scan_refutes(std::vector<Candidate>& candidates, const Votes& v, double tolerance) {
+std::optional<RadialProfile> scan_profile(const Votes& v) {
   const auto& axis = v.symmetries->target_symmetry.continuous;
-  if (!axis) return 0;
-  const Correspondence& scan = *v.symmetries->correspondence;
-  const RadialProfile profile = radial_profile(scan.exemplar->features.points, scan.map.rigid, *axis, v.spacing());
+  const Correspondence* scan = v.symmetries->correspondence.get();
+  if (!axis || !scan) return std::nullopt;
+  return radial_profile(scan->exemplar->features.points, scan->map.rigid, *axis, v.spacing());
+}
+
+// The candidates (modes or transforms) the profile refutes, dropped and said: flips end over end and slides along the
+// axis that pair heights where the scan's radii differ. Returns how many.
+template <typename Candidate>
+Index drop_what_the_profile_refutes(std::vector<Candidate>& candidates, const std::optional<RadialProfile>& profile,
+                                    double tolerance) {
+  if (!profile) return 0;
   const auto refuted =
-      std::erase_if(candidates, [&](const Candidate& c) { return profile_refutes(profile, c.transform, tolerance); });
+      std::erase_if(candidates, [&](const Candidate& c) { return profile_refutes(*profile, c.transform, tolerance); });
   if (refuted > 0)
     node_logger("support")->info(
         "{} candidates dropped: they pair heights along the target's axis where the scan's radii about it differ",
@@ -476,8 +482,9 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);
     const Correspondence* scan = v.symmetries->correspondence.get();
+    const std::optional<RadialProfile> profile = scan_profile(v);
     const double refuting = config.support.distance * v.spacing();
-    if (scan) s->refuted += drop_what_the_scan_refutes(voted.transforms, v, refuting);
+    s->refuted += drop_what_the_profile_refutes(voted.transforms, profile, refuting);
     if (const auto& axis = v.symmetries->source_symmetry.continuous)
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
@@ -486,7 +493,7 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     std::vector<Mode> composed =
         composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,
                             scan ? &scan->exemplar->features.points : nullptr, scan ? scan->map.rigid : Similarity{});
-    if (scan) s->refuted += drop_what_the_scan_refutes(composed, v, refuting);
+    s->refuted += drop_what_the_profile_refutes(composed, profile, refuting);
     // Where T's turns all explain the scan alike, voting finds turns at random angles: the quarter turns eq. 9
     // prefers are offered too, unless the scan's own repeats phase every image (synthesize).
     s->scan_repeats = scan && scan_repeats_about_axis(v, config.synthesize.refine_distance * v.spacing());

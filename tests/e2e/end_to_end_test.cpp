@@ -43,6 +43,17 @@ Scores score(const PointSet& output, const PointSet& reference, const PointSet& 
   return {r.fscore, r.unseen_detail_recall.value_or(0)};
 }
 
+// The virtual scan of `reference` that run(c) completed: c.virtual_scan's eye, target, image and field of view.
+PointSet scan_of_the_run(const RunConfig& c, const PointSet& reference) {
+  ScanOptions so;
+  so.eye = *c.virtual_scan.eye;
+  so.target = *c.virtual_scan.target;
+  so.width = c.virtual_scan.width;
+  so.height = c.virtual_scan.height;
+  so.fov_deg = c.virtual_scan.fov_deg;
+  return virtual_scan(reference, so).points;
+}
+
 void complete_and_score(const std::string& shape, const std::string& templ, const Eigen::Vector3d& eye,
                         const Eigen::Vector3d& target) {
   setup_logging(false, true);
@@ -50,12 +61,7 @@ void complete_and_score(const std::string& shape, const std::string& templ, cons
   const RunConfig c = completion_config(shape, templ, eye, target, dir / "out");
   run(c);
   const PointSet reference = make_shape(shape), template_mesh = make_shape(templ);
-  ScanOptions so;
-  so.eye = eye;
-  so.target = target;
-  so.width = so.height = 480;
-  so.fov_deg = 35;
-  const PointSet scan = virtual_scan(reference, so).points;
+  const PointSet scan = scan_of_the_run(c, reference);
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
   const Scores ours = score(output, reference, scan, template_mesh);
   const Scores scan_only = score(scan, reference, scan, template_mesh);
@@ -92,8 +98,7 @@ TEST(EndToEnd, FlutedColumnWithACylinderTemplate) {
 TEST(EndToEnd, AHexagonDrawnForTheVaseStandsInAsTheBodyThroughItsCorners) {
   setup_logging(false, true);
   test::TempDir dir;
-  const Eigen::Vector3d eye(0, -3.5, 1.2), target(0, 0, 0.5);
-  RunConfig c = completion_config("vase", "vase_cylinder6", eye, target, dir / "out");
+  RunConfig c = completion_config("vase", "vase_cylinder6", {0, -3.5, 1.2}, {0, 0, 0.5}, dir / "out");
   c.virtual_scan.width = c.virtual_scan.height = 320;
   c.sample.count = 3000;
   c.output_surface = SurfaceChoice::kNone;
@@ -101,13 +106,8 @@ TEST(EndToEnd, AHexagonDrawnForTheVaseStandsInAsTheBodyThroughItsCorners) {
   const auto report = nlohmann::json::parse(test::read_bytes(dir / "out" / "report.json"));
   EXPECT_EQ(report["correspondence"]["polygon_sides"], 6);
   const PointSet reference = make_shape("vase"), hexagon = make_shape("vase_cylinder6");
-  ScanOptions so;
-  so.eye = eye;
-  so.target = target;
-  so.width = so.height = 320;
-  so.fov_deg = 35;
   const Scores ours =
-      score(read_point_set(dir / "out" / "output.ply").points, reference, virtual_scan(reference, so).points, hexagon);
+      score(read_point_set(dir / "out" / "output.ply").points, reference, scan_of_the_run(c, reference), hexagon);
   std::printf("vase in a hexagon: F %.3f unseen %.3f\n", ours.fscore, ours.unseen);
   EXPECT_GE(ours.fscore, 0.88);
   EXPECT_GE(ours.unseen, 0.85);
@@ -159,19 +159,14 @@ TEST(EndToEnd, AVaseInAPlainCylinderSeenFromBelowIsNotTurnedEndOverEnd) {
 TEST(EndToEnd, ABeadedRingSeenFromBelowKeepsItsFlipEndOverEnd) {
   setup_logging(false, true);
   test::TempDir dir;
-  const Eigen::Vector3d eye(0.437, -1.4347, -2.3164), target(0, -0.0001, 0.06);
-  RunConfig c = completion_config("beaded_ring", "ring_template", eye, target, dir / "out");
+  RunConfig c =
+      completion_config("beaded_ring", "ring_template", {0.437, -1.4347, -2.3164}, {0, -0.0001, 0.06}, dir / "out");
   c.virtual_scan.fov_deg = 30;
   c.output_surface = SurfaceChoice::kNone;
   run(c);
   const PointSet reference = make_shape("beaded_ring"), torus = make_shape("ring_template");
-  ScanOptions so;
-  so.eye = eye;
-  so.target = target;
-  so.width = so.height = 480;
-  so.fov_deg = 30;
   const Scores ours =
-      score(read_point_set(dir / "out" / "output.ply").points, reference, virtual_scan(reference, so).points, torus);
+      score(read_point_set(dir / "out" / "output.ply").points, reference, scan_of_the_run(c, reference), torus);
   std::printf("beaded ring from below: F %.3f unseen %.3f\n", ours.fscore, ours.unseen);
   EXPECT_GE(ours.fscore, 0.99);
   EXPECT_GE(ours.unseen, 0.95);
