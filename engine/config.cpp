@@ -1,5 +1,6 @@
 #include "engine/config.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <yaml-cpp/yaml.h>
 
 #include <iomanip>
@@ -372,6 +373,14 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
   }
   if (config.mode == RunMode::kAnalogy && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode analogy writes no output.ply to mesh: expected auto or none"});
+  if (config.mode == RunMode::kCompletion && config.vote.completion_scale >= 1 &&
+      !(config.vote.min_scale <= config.vote.completion_scale &&
+        config.vote.max_scale >= 1 / config.vote.completion_scale))
+    problems.push_back({"vote.completion_scale",
+                        fmt::format("completion votes for scales in [1 / {0:g}, {0:g}], which "
+                                    "[vote.min_scale, vote.max_scale] = [{1:g}, {2:g}] does "
+                                    "not meet: widen one of them",
+                                    config.vote.completion_scale, config.vote.min_scale, config.vote.max_scale)});
   if (config.mode == RunMode::kCurves && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode curves writes curves, not a surface: expected auto or none"});
   if (config.mode == RunMode::kExchange) {

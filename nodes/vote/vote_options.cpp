@@ -23,6 +23,10 @@ OptionTable option_table(VoteOptions& v) {
           if (pv->max_scale >= pv->min_scale && std::isfinite(pv->max_scale)) return std::nullopt;
           return "expected a number >= vote.min_scale";
         }},
+       {"completion_scale", &v.completion_scale,
+        "completion: scales outside [1 / this, this] are not voted for or kept (scan and template share one scale); "
+        ">= 1",
+        range(&v.completion_scale, 1.0, kInf, false, "a number >= 1")},
        {"flat_curvature", &v.flat_curvature, "|k1| alpha below this: too flat for a scale or signature; >= 0",
         non_negative(&v.flat_curvature)},
        {"umbilic_ratio", &v.umbilic_ratio, "|k2/k1| above this: four rotations per pair; (0, 1]",

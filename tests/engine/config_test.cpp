@@ -177,6 +177,25 @@ TEST(Config, OutputColourIsAutoUnlessSaid) {
       << e;
 }
 
+TEST(Config, ACompletionsScaleRangeMustMeetTheVotedOne) {
+  test::TempDir dir;
+  test::write_bytes(dir / "d.yaml", std::string(kValidHead) + "vote:\n  min_scale: 0.5\n  completion_scale: .inf\n");
+  EXPECT_EQ(load_config(dir / "d.yaml").vote.min_scale, 0.5);
+  const std::string below = config_error(dir, std::string(kValidHead) + "vote:\n  completion_scale: 0.9\n");
+  EXPECT_NE(below.find("vote.completion_scale: expected a number >= 1, got 0.9"), std::string::npos) << below;
+  const std::string apart =
+      config_error(dir, std::string(kValidHead) + "vote:\n  min_scale: 2\n  max_scale: 4\n  completion_scale: 1.5\n");
+  EXPECT_NE(apart.find("vote.completion_scale: completion votes for scales in [1 / 1.5, 1.5], which [vote.min_scale, "
+                       "vote.max_scale] = [2, 4] does not meet"),
+            std::string::npos)
+      << apart;
+  // Transfer takes the voted range as it is.
+  test::write_bytes(dir / "t.yaml",
+                    "mode: transfer\ninputs:\n  source: procedural:box\n  target: procedural:box\n  exemplar: "
+                    "procedural:box\nvote:\n  min_scale: 2\n  max_scale: 4\n");
+  EXPECT_EQ(load_config(dir / "t.yaml").vote.min_scale, 2);
+}
+
 TEST(Config, OutputSurfaceIsPoissonForCompletionsUnlessSaid) {
   test::TempDir dir;
   test::write_bytes(dir / "d.yaml", kValidHead);
