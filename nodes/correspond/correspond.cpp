@@ -811,6 +811,10 @@ SurfaceElements walls_across(const SurfaceElements& surface, const Eigen::Vector
 // own scan is as far off as its template.
 constexpr double kRounder = 0.5;
 
+// The share of the scan's samples the body through a polygon's corners must lay on itself beyond the polygon's share
+// for it to stand in for the polygon (rigid_pose).
+constexpr double kClearlyOnBody = 0.03;
+
 // How nearly the normals of the elements on walls across the axis (kWall) meet it; infinity with too few.
 double wall_misfit(const SurfaceElements& surface, const RevolutionAxis& axis) {
   const SurfaceElements walls = walls_across(surface, axis.direction);
@@ -901,7 +905,9 @@ TemplateAxis template_axis(const PointSet& source, const KdTree& tree, double sp
 // ICP lays it there, better than on the polygon as ICP lays it there, the polygon draws that body, and the scan is
 // registered on it as on a round template, as it is where the scan is rounder than the polygon (round_about, kRounder:
 // the vase lies on neither, 7% either way). A scan of the polygon itself (a hexagonal prism in its hexagon) lies
-// better on the polygon, and is no rounder.
+// better on the polygon, and is no rounder. A scan of an end face lies on both (a hexagon inside the body's disk, a
+// share 0.01 apart seen straight from below), and takes the template as drawn: the body must lay kClearlyOnBody more
+// of the scan on itself (the fluted column's scans, on an octagon or a hexagon, 0.08 to 0.30 more).
 Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
                       const CorrespondOptions& o, CorrespondResult& r) {
   const TemplateAxis t = template_axis(source, tree, spacing);
@@ -914,7 +920,7 @@ Similarity rigid_pose(const PointSet& exemplar, const PointSet& source, const Kd
     const Similarity body_fit = rigid_icp(exemplar, body, body_tree, o, body_rms);
     const double on_body = placement_on_source(exemplar, body, body_tree, body_fit, spacing).on;
     const double on_polygon = placement_on_source(exemplar, source, tree, icp_fit, spacing).on;
-    if (on_body > on_polygon || round_about(exemplar, t.axis, kRounder * t.wall_misfit)) {
+    if (on_body > on_polygon + kClearlyOnBody || round_about(exemplar, t.axis, kRounder * t.wall_misfit)) {
       r.polygon = {t.axis.centre, t.axis.direction, t.facets.sides, t.facets.phase};
       r.rigid_rms = body_rms;
       return pose_on(exemplar, body, body_tree, body_fit, t.axis, spacing, r);
