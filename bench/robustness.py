@@ -9,8 +9,10 @@ median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
                                       [--set KEY=VALUE]... [--check-floors] [--random-views N [--view-seed S]]
-                                      [--noise SHARE] [--resolution N]
+                                      [--end-on] [--noise SHARE] [--resolution N]
 
+--end-on replaces the six views by two nearly along the up axis (AXIS_VIEWS, 2 degrees off it): a scan of the top or
+the bottom only, as of an object lying on a table, where a column or a crate shows little of its style.
 --noise gives the virtual scans range noise (Gaussian along each ray, seeded) of SHARE times the model's diagonal, as a
 real scanner's: 0.003 is about a third of the F-score's threshold.
 --resolution sets the virtual scanner's image (N by N rays; 480 by default): 160 gives a sparse scan of some 6000
@@ -41,6 +43,12 @@ VIEWS = {
     "front_oblique": (0.6, -0.8, 0.4),
     "above": (0.25, -0.35, 1.0),
     "below": (0.35, -0.25, -1.0),
+}
+
+# --end-on: straight from above and from below, 2 degrees off the up axis (exactly on it, the scanner's image has no up).
+AXIS_VIEWS = {
+    "straight_above": (0.03, 0.02, 1.0),
+    "straight_below": (0.03, 0.02, -1.0),
 }
 
 # (shape, model, [templates])
@@ -259,11 +267,18 @@ def main():
     ap.add_argument("--random-views", type=int, default=0, metavar="N",
                     help="N seeded random eye directions instead of the six named views (views no test chose)")
     ap.add_argument("--view-seed", type=int, default=2026, help="seed of --random-views")
+    ap.add_argument("--end-on", action="store_true",
+                    help="two views nearly along the up axis (AXIS_VIEWS) instead of the six named views")
     ap.add_argument("--noise", type=float, default=0.0, metavar="SHARE",
                     help="range noise of the virtual scans (sigma along the ray) as a share of the model's diagonal")
     ap.add_argument("--resolution", type=int, default=480, metavar="N",
                     help="the virtual scanner's image, N by N rays (a sparse scan: 160)")
     args = ap.parse_args()
+    if args.end_on and args.random_views > 0:
+        ap.error("--end-on and --random-views each replace the named views: give one of them")
+    if args.end_on:
+        VIEWS.clear()
+        VIEWS.update(AXIS_VIEWS)
     if args.random_views > 0:
         VIEWS.clear()
         VIEWS.update(random_views(args.random_views, args.view_seed))
