@@ -381,9 +381,9 @@ SymmetriesPtr symmetry_stage(RunState& state, const PointSet& source, const Feat
 namespace {
 
 // vote's options with the scale range the mode allows: completion narrows it to [1 / completion_scale,
-// completion_scale], since the scan is registered on its template at one scale. A flat face takes any shrunk copy of
-// itself: a gear seen straight from below had its far face explained by its seen face flipped and scaled by 0.35,
-// which left out the true flip as redundant (F 0.807 -> 0.828 without it).
+// completion_scale] (1.5 leaves a part repeated at 0.7, the scaled copy), since the transforms carry one
+// object's seen parts onto its others. A flat face takes any shrunk copy of itself: a gear seen straight from below had
+// its far face explained by its seen face flipped and scaled by 0.48, which left out the true flip as redundant.
 VoteOptions vote_options(const RunConfig& config) {
   VoteOptions options = config.vote;
   if (config.mode == RunMode::kCompletion) {

@@ -172,11 +172,11 @@ TEST(EndToEnd, ABeadedRingSeenFromBelowKeepsItsFlipEndOverEnd) {
   EXPECT_GE(ours.unseen, 0.95);
 }
 
-// The gear seen straight from below (the eye 8 degrees off its axis) shows its underside only, a flat face: any shrunk
-// copy of that face, turned over, lies on the far face too. A flip scaled by 0.48 explained the top and left out the
-// true flip end over end as redundant, so the top took a plain patch of the underside's middle (430 points of teeth
-// on the top face). In completion the scan shares its template's scale (vote.completion_scale): the flip carries the
-// underside's teeth to the top.
+// The gear seen straight from below (2 degrees off its axis, the sweep's --end-on view) shows its underside only, a
+// flat face: any shrunk copy of that face, turned over, lies on the far face too. A flip scaled by 0.48 explained the
+// top and left out the true flip end over end as redundant, so the top took a plain patch of the underside's middle
+// (430 points of teeth on the top face). In completion a transform carries one part of an object onto another at
+// nearly its size (vote.completion_scale): the flip carries the underside's teeth to the top.
 TEST(EndToEnd, AGearSeenStraightFromBelowIsTurnedOverNotShrunk) {
   setup_logging(false, true);
   test::TempDir dir;
