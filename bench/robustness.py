@@ -12,7 +12,8 @@ median of F and unseen-detail, and the baselines' medians).
                                       [--end-on] [--noise SHARE] [--resolution N]
 
 --end-on replaces the six views by two nearly along the up axis (AXIS_VIEWS, 2 degrees off it): a scan of the top or
-the bottom only, as of an object lying on a table, where a column or a crate shows little of its style.
+the bottom only, as of an object lying on a table, where a column or a crate shows little of its style; with
+--check-floors it names where the issue's floors fall short there (they are not expected to hold end on).
 --noise gives the virtual scans range noise (Gaussian along each ray, seeded) of SHARE times the model's diagonal, as a
 real scanner's: 0.003 is about a third of the F-score's threshold.
 --resolution sets the virtual scanner's image (N by N rays; 480 by default): 160 gives a sparse scan of some 6000

@@ -354,6 +354,20 @@ void validate_exchange(const RunConfig& config, std::vector<std::pair<std::strin
   }
 }
 
+// Completion votes within [1 / completion_scale, completion_scale] of vote's own range (engine/stages.cpp): the two
+// must overlap in more than a point, or no transform survives support's refinement. Each key's own range is checked by
+// its field; this only where both hold.
+void check_completion_scale(const VoteOptions& v, std::vector<std::pair<std::string, std::string>>& problems) {
+  if (!(v.completion_scale > 1 && v.min_scale > 0 && v.min_scale <= v.max_scale)) return;
+  if (v.min_scale < v.completion_scale && v.max_scale > 1 / v.completion_scale) return;
+  problems.push_back(
+      {"vote.completion_scale",
+       fmt::format("completion votes for scales in [1 / {0:g}, {0:g}], which [vote.min_scale, vote.max_scale] = "
+                   "[{1:g}, {2:g}] does not overlap: raise vote.completion_scale or widen [vote.min_scale, "
+                   "vote.max_scale]",
+                   v.completion_scale, v.min_scale, v.max_scale)});
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> validate(const RunConfig& config) {
@@ -373,14 +387,7 @@ std::vector<std::pair<std::string, std::string>> validate(const RunConfig& confi
   }
   if (config.mode == RunMode::kAnalogy && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode analogy writes no output.ply to mesh: expected auto or none"});
-  if (config.mode == RunMode::kCompletion && config.vote.completion_scale >= 1 &&
-      !(config.vote.min_scale <= config.vote.completion_scale &&
-        config.vote.max_scale >= 1 / config.vote.completion_scale))
-    problems.push_back({"vote.completion_scale",
-                        fmt::format("completion votes for scales in [1 / {0:g}, {0:g}], which "
-                                    "[vote.min_scale, vote.max_scale] = [{1:g}, {2:g}] does "
-                                    "not meet: widen one of them",
-                                    config.vote.completion_scale, config.vote.min_scale, config.vote.max_scale)});
+  if (config.mode == RunMode::kCompletion) check_completion_scale(config.vote, problems);
   if (config.mode == RunMode::kCurves && config.output_surface == SurfaceChoice::kPoisson)
     problems.push_back({"output.surface", "mode curves writes curves, not a surface: expected auto or none"});
   if (config.mode == RunMode::kExchange) {

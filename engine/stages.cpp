@@ -490,12 +490,13 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
     const Votes& v = *in->votes;
     auto s = std::make_shared<Supports>();
     s->modes = in;
-    // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both.
+    // Support refines the transforms vote proposed: vote.allow_scale decides their kind for both, and vote's scale
+    // range (narrowed in completion) the scales support keeps.
     SupportOptions options = config.support;
-    const VoteOptions vote = vote_options(config);
-    options.allow_scale = vote.allow_scale;
-    options.min_scale = vote.min_scale;
-    options.max_scale = vote.max_scale;
+    const VoteOptions voted_range = vote_options(config);
+    options.allow_scale = voted_range.allow_scale;
+    options.min_scale = voted_range.min_scale;
+    options.max_scale = voted_range.max_scale;
     const PointSet& T = v.target()->features.points;
     SupportResult voted =
         grow_supports(v.source(), T, in->modes.modes, v.spacing(), mode_accuracy(v.votes, config.modes), options);

@@ -35,7 +35,7 @@ struct VoteOptions {
   double max_scale = 4.0;             // >= min_scale
   double completion_scale = 1.5;      // completion narrows the range to [1 / this, this]: one object's parts, and a
                                       // flat face takes any shrunk copy of itself (the engine narrows vote's and
-                                      // support's range; vote() reads only min_scale, max_scale); >= 1
+                                      // support's range; vote() reads only min_scale, max_scale); > 1
   double flat_curvature = 0.02;       // |k1| alpha below this: too flat for a scale or a signature; >= 0
   double umbilic_ratio = 0.75;        // |k2/k1| above this: four rotations per pair; (0, 1]
   double min_curved_fraction = 0.05;  // flat target points vote only if fewer curved points than this; [0, 1]

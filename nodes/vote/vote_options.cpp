@@ -25,8 +25,8 @@ OptionTable option_table(VoteOptions& v) {
         }},
        {"completion_scale", &v.completion_scale,
         "completion: scales outside [1 / this, this] are not voted for or kept (one object's parts; a flat face takes "
-        "any shrunk copy of itself); >= 1",
-        range(&v.completion_scale, 1.0, kInf, false, "a number >= 1")},
+        "any shrunk copy of itself); > 1",
+        range(&v.completion_scale, 1.0, kInf, true, "a number > 1")},
        {"flat_curvature", &v.flat_curvature, "|k1| alpha below this: too flat for a scale or signature; >= 0",
         non_negative(&v.flat_curvature)},
        {"umbilic_ratio", &v.umbilic_ratio, "|k2/k1| above this: four rotations per pair; (0, 1]",

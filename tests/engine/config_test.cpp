@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+
 #include "nodes/core/errors.h"
 #include "test_util.h"
 
@@ -180,15 +182,23 @@ TEST(Config, OutputColourIsAutoUnlessSaid) {
 TEST(Config, ACompletionsScaleRangeMustMeetTheVotedOne) {
   test::TempDir dir;
   test::write_bytes(dir / "d.yaml", std::string(kValidHead) + "vote:\n  min_scale: 0.5\n  completion_scale: .inf\n");
-  EXPECT_EQ(load_config(dir / "d.yaml").vote.min_scale, 0.5);
-  const std::string below = config_error(dir, std::string(kValidHead) + "vote:\n  completion_scale: 0.9\n");
-  EXPECT_NE(below.find("vote.completion_scale: expected a number >= 1, got 0.9"), std::string::npos) << below;
+  EXPECT_TRUE(std::isinf(load_config(dir / "d.yaml").vote.completion_scale));
+  // At 1 the range would be one point, which no refined transform's scale hits.
+  for (const char* value : {"0.9", "1"}) {
+    const std::string below = config_error(dir, std::string(kValidHead) + "vote:\n  completion_scale: " + value + "\n");
+    EXPECT_NE(below.find(std::string("vote.completion_scale: expected a number > 1, got ") + value), std::string::npos)
+        << below;
+  }
   const std::string apart =
-      config_error(dir, std::string(kValidHead) + "vote:\n  min_scale: 2\n  max_scale: 4\n  completion_scale: 1.5\n");
+      config_error(dir, std::string(kValidHead) + "vote:\n  min_scale: 1.5\n  max_scale: 4\n  completion_scale: 1.5\n");
   EXPECT_NE(apart.find("vote.completion_scale: completion votes for scales in [1 / 1.5, 1.5], which [vote.min_scale, "
-                       "vote.max_scale] = [2, 4] does not meet"),
+                       "vote.max_scale] = [1.5, 4] does not overlap: raise vote.completion_scale or widen"),
             std::string::npos)
       << apart;
+  // A range that is wrong on its own is said once, by its own key.
+  const std::string inverted = config_error(dir, std::string(kValidHead) + "vote:\n  min_scale: 3\n  max_scale: 2\n");
+  EXPECT_NE(inverted.find("vote.max_scale: expected a number >= vote.min_scale"), std::string::npos) << inverted;
+  EXPECT_EQ(inverted.find("vote.completion_scale"), std::string::npos) << inverted;
   // Transfer takes the voted range as it is.
   test::write_bytes(dir / "t.yaml",
                     "mode: transfer\ninputs:\n  source: procedural:box\n  target: procedural:box\n  exemplar: "
