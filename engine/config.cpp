@@ -1,6 +1,5 @@
 #include "engine/config.h"
 
-#include <spdlog/fmt/fmt.h>
 #include <yaml-cpp/yaml.h>
 
 #include <iomanip>
@@ -360,12 +359,11 @@ void validate_exchange(const RunConfig& config, std::vector<std::pair<std::strin
 void check_completion_scale(const VoteOptions& v, std::vector<std::pair<std::string, std::string>>& problems) {
   if (!(v.completion_scale > 1 && v.min_scale > 0 && v.min_scale <= v.max_scale)) return;
   if (v.min_scale < v.completion_scale && v.max_scale > 1 / v.completion_scale) return;
-  problems.push_back(
-      {"vote.completion_scale",
-       fmt::format("completion votes for scales in [1 / {0:g}, {0:g}], which [vote.min_scale, vote.max_scale] = "
-                   "[{1:g}, {2:g}] does not overlap: raise vote.completion_scale or widen [vote.min_scale, "
-                   "vote.max_scale]",
-                   v.completion_scale, v.min_scale, v.max_scale)});
+  std::ostringstream s;  // the fuzz build links config.cpp without fmt
+  s << "completion votes for scales in [1 / " << v.completion_scale << ", " << v.completion_scale
+    << "], which [vote.min_scale, vote.max_scale] = [" << v.min_scale << ", " << v.max_scale
+    << "] does not overlap: raise vote.completion_scale or widen [vote.min_scale, vote.max_scale]";
+  problems.push_back({"vote.completion_scale", s.str()});
 }
 
 }  // namespace
