@@ -378,6 +378,7 @@ constexpr double kTruncatingOffset = 1.25;
 // How far off the template, in alpha, the scan's relief stands where it is its own when the scan repeats about no
 // axis (unrepeated_relief): a teapot's spout stands 20 alpha off its body, a gear's teeth 4.
 constexpr double kUnrepeatedRelief = 8.0;
+constexpr std::uint8_t kUnrepeatedFoot = 2;  // unrepeated_relief's mark of a part's foot, under kUnrepeatedRelief
 
 // How far correction c moves a region (centre, radius): its centre's move plus its turn times its radius.
 double region_move(const Similarity& c, const Slippage& slip) {
@@ -1301,8 +1302,8 @@ double height_over_template(const PointSet& T, const KdTree& target_tree, const 
   return T.normals().col(j).dot(x - T.positions().col(j));
 }
 
-// Grows `marked` through the samples' 8 nearest neighbours closer than `link` to every sample standing more than
-// `foot` out (`over`): a part standing out (a spout) down to where it meets the body, not only its tip.
+// Grows `marked` through the samples' 8 nearest neighbours closer than `link`, to every sample standing more than
+// `foot` out (`over`), marking them kUnrepeatedFoot: a part standing out (a spout) down to where it meets the body.
 void grow_to_foot(const Eigen::Matrix3Xd& points, const std::vector<double>& over, double foot, double link,
                   std::vector<std::uint8_t>& marked) {
   constexpr int k = 8;
@@ -1319,21 +1320,21 @@ void grow_to_foot(const Eigen::Matrix3Xd& points, const std::vector<double>& ove
       const std::int32_t n = graph[size_t(e * k + j)];
       if (n < 0 || marked[size_t(n)] || over[size_t(n)] <= foot) continue;
       if ((points.col(n) - points.col(e)).squaredNorm() >= link * link) continue;
-      marked[size_t(n)] = 1;
+      marked[size_t(n)] = kUnrepeatedFoot;
       stack.push_back(n);
     }
   }
 }
 
-// Completion, when the scan repeats about no axis (no repeats found): per exemplar sample, whether it stands more than
+// Completion, when the scan repeats about no axis (no repeats found): per exemplar sample, 1 where it stands more than
 // `height` out of the template, along the nearest template sample's normal (moved by the registration `offset`; sunk
 // relief, a pillar's panels behind its box, does not count). Such relief is the scan's own, not a style that
 // repeats (a teapot's spout 20 alpha off its body, seen from below), and no turn carries it (CarriedRelief): turned
-// about the body, it put spouts where the teapot has none (F 0.902, below template blending's 0.958). The part is
-// kept whole down to its foot, the samples linked to it (closer than `link`) standing more than `foot` out
-// (grow_to_foot): seen from straight below, the spout's and handle's roots, under `height`, were turned round the body
-// in arcs over a hole the copy rule left them (F 0.922; template blending 0.960). Empty when the scan repeats or in
-// transfer.
+// about the body, it put spouts where the teapot has none (F 0.902, below template blending's 0.958). Its foot, the
+// samples linked to it (closer than `link`) standing more than `foot` out (grow_to_foot), is marked too and carried
+// by quarter and half turns only (turn_carries_unrepeated): seen from straight below, the spout's and handle's roots,
+// under `height`, were turned round the body by turns of 100-160 degrees, in arcs over a hole the copy rule left them
+// (F 0.922; template blending 0.960). Empty when the scan repeats or in transfer.
 std::vector<std::uint8_t> unrepeated_relief(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep,
                                             const Eigen::Vector3d& offset, const KdTree& target_tree,
                                             const Synthesis& out, double height, double foot, double link) {
@@ -1367,6 +1368,16 @@ std::vector<std::uint8_t> banded_relief(const SynthesisInputs& in, const Eigen::
   return band;
 }
 
+// Whether a turn carries an unrepeated sample (unrepeated_relief): a part's foot (2) only by a quarter or half turn,
+// within 5 degrees (eq. 9's kappa pi / 2, the analogy's guess for a scan that repeats about nothing: a vase's knob in
+// front has one behind), the part above it (1) by no turn.
+bool turn_carries_unrepeated(const Similarity& inv, std::uint8_t unrepeated) {
+  constexpr double kDegree = M_PI / 180;
+  const double angle = rotation_angle(inv.rotation);
+  if (angle <= kDegree) return true;
+  return unrepeated == kUnrepeatedFoot && std::abs(std::remainder(angle, M_PI / 2)) < 5 * kDegree;
+}
+
 // Which exemplar samples an image carries (completion): every sample, but relief the scan shows once only where the
 // image does not turn (unrepeated_relief), and a band's relief only into that band (banded_relief).
 struct CarriedRelief {
@@ -1374,8 +1385,8 @@ struct CarriedRelief {
   std::optional<AxialRepeats> bands;  // the repeats whose bands `banded` holds (a copy: out.repeats may grow)
 
   bool carries(const Similarity& inv, const Eigen::Matrix3Xd& ep, Index e) const {
-    constexpr double kTurn = M_PI / 180;
-    if (!unrepeated.empty() && unrepeated[size_t(e)] && rotation_angle(inv.rotation) > kTurn) return false;
+    if (!unrepeated.empty() && unrepeated[size_t(e)] && !turn_carries_unrepeated(inv, unrepeated[size_t(e)]))
+      return false;
     if (banded.empty() || !banded[size_t(e)]) return true;
     const Eigen::Vector3d x = inv.apply(ep.col(e));
     return !bands->part.contains(x) || band_of(*bands, x) + 1 == banded[size_t(e)];

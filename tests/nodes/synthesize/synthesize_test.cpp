@@ -584,12 +584,10 @@ TEST(SynthesizeRefinement, TurnsAnImageToTheExemplarsQuarterTurnRepeatsHoweverFa
 }
 
 // A round body with one spout (at -y, standing 0.2 = 22 alpha off it) seen from -y, whole, the rest labelled with a
-// half turn about its axis, as voting leaves it on the plain body, the mirror off. The scan repeats about no axis, so
-// the spout is its own: the half turn carries the body but not the spout, which it would put at +y: neither its
-// samples more than 8 alpha off the template nor its foot linked to them down to 1 alpha. Measured: 0.998 of the far
-// side's synthesised points within 2 alpha of the body (0.795 when the foot was carried, a stump at +y; 0.551 with
-// every sample carried).
-TEST(SynthesizeRelief, AHalfTurnDoesNotCarryAReliefThatDoesNotRepeat) {
+// turn about its axis by `degrees`, as voting leaves it on the plain body, the mirror off. The scan repeats about no
+// axis, so the spout is its own. Returns the share of the far side's synthesised points (y >= 0.15) within 2 alpha of
+// the body, and prints it.
+double far_side_on_body_after_a_turn(double degrees) {
   const auto body = [](double spout) {
     return make_prism(
         [spout](double phi) {
@@ -603,23 +601,37 @@ TEST(SynthesizeRelief, AHalfTurnDoesNotCarryAReliefThatDoesNotRepeat) {
   const double alpha = std::sqrt(0.64 * surface_area(spouted.positions(), spouted.faces()) / double(n));
   const PointSet all = random_surface_points(spouted, 2 * n, 7);
   const PointSet exemplar = samples_where(all, [&](const Eigen::Vector3d& p) { return p(1) < 0.12; });
-  const Similarity half_turn{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
-                             Eigen::Vector3d::Zero(), 1};
+  const Similarity turn{Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                        Eigen::Vector3d::Zero(), 1};
   SynthesisOptions no_mirror;
   no_mirror.mirror = false;
   const Synthesis syn = refine_transforms(
-      exemplar, random_surface_points(plain, n, 11), {Similarity{}, half_turn},
+      exemplar, random_surface_points(plain, n, 11), {Similarity{}, turn},
       [](const Eigen::Vector3d& p) { return p.y() < 0.12 ? 0 : 1; }, alpha, no_mirror);
+  EXPECT_TRUE(syn.repeats.empty());
   KdTree model;
   const PointSet dense = random_surface_points(spouted, 400000, 5);
   model.build(dense.positions());
   const double on_body = share_near(model, syn.points.positions(), 2 * alpha, [&](Index i) {
     return syn.origin[size_t(i)] == Origin::kSynthesized && syn.points.positions()(1, i) >= 0.15;
   });
-  std::printf("repeats %zu; far side's synthesised points within 2 alpha of the body %.3f\n", syn.repeats.size(),
+  std::printf("turn of %.0f degrees: far side's synthesised points within 2 alpha of the body %.3f\n", degrees,
               on_body);
-  EXPECT_TRUE(syn.repeats.empty());
-  EXPECT_GT(on_body, 0.95);
+  return on_body;
+}
+
+// The half turn carries the body but not the spout's samples more than 8 alpha off the template, which it would put at
+// +y. Its foot, under 8 alpha, is carried, as by any quarter or half turn (eq. 9's guess: a vase's knob in front has
+// one behind): a stump. Measured 0.795 (0.551 with every sample carried).
+TEST(SynthesizeRelief, AHalfTurnDoesNotCarryAReliefThatDoesNotRepeat) {
+  EXPECT_GT(far_side_on_body_after_a_turn(180), 0.7);
+}
+
+// A turn of 135 degrees carries neither the spout nor its foot (the samples linked to it down to 1 alpha out): seen
+// from straight below, a teapot's spout and handle roots were laid round its body in arcs by such turns. Measured
+// 0.997 (0.793 with the foot carried).
+TEST(SynthesizeRelief, ATurnThatIsNoQuarterTurnCarriesNotEvenTheFootOfAReliefThatDoesNotRepeat) {
+  EXPECT_GT(far_side_on_body_after_a_turn(135), 0.95);
 }
 
 }  // namespace
