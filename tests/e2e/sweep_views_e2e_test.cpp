@@ -558,10 +558,13 @@ TEST(VaseInACylinder, SeenFromTheFrontItsBackGetsFlutesAndBeads) {
 // and its flips' free fits carry their images 13-25 alpha off it, onto the placed images. Held to the cylinder as a
 // flip on a template that fits its scan is (the medallion barrel below), F is 0.681 and unseen-detail 0.674 here (0.633
 // / 0.674 before banded_relief; 0.626 / 0.69 in the sweep, whose bounding box differs a little), free 0.729 /
-// 0.696. A flip is held to the template only where the template fits the scan (template_fits_exemplar).
+// 0.696. A flip is held to the template only where the template fits the scan (template_fits_exemplar). Since stop 60
+// the flips end over end that the scan's own radii refute are dropped (symmetry/profile.h; the foot's beads went round
+// the lip): 0.747 / 0.673, measured with stop 60's code and stop 62's.
 TEST(VaseInACylinder, SeenFromBelowTheFlipsFollowThePlacedImagesOffTheCylinder) {
   const SweepRun run = complete_from("vase", "vase_cylinder", Eigen::Vector3d(0.35, -0.25, -1.0));
-  expect_scores(run, "vase in a plain cylinder from below", 0.70, 0.68);
+  EXPECT_GT(run.report["symmetry"]["refuted_by_scan_profile"].get<Index>(), 0);
+  expect_scores(run, "vase in a plain cylinder from below", 0.72, 0.66);
 }
 
 // The fluted column (16 flutes) in its 24-gon template, seen from the seeded random view (-0.61, -0.43, 0.67) of the
