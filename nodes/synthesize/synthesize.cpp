@@ -1302,13 +1302,12 @@ double height_over_template(const PointSet& T, const KdTree& target_tree, const 
   return T.normals().col(j).dot(x - T.positions().col(j));
 }
 
-// Grows `marked` through the samples' 8 nearest neighbours closer than `link`, to every sample standing more than
-// `foot` out (`over`), marking them kUnrepeatedFoot: a part standing out (a spout) down to where it meets the body.
-void grow_to_foot(const Eigen::Matrix3Xd& points, const std::vector<double>& over, double foot, double link,
-                  std::vector<std::uint8_t>& marked) {
+// Grows `marked` through the samples' 8 nearest neighbours (`tree` holds `points`) closer than `link`, to every sample
+// standing more than `foot` out (`over`), marking them kUnrepeatedFoot: a part standing out (a spout) down to where it
+// meets the body.
+void grow_to_foot(const Eigen::Matrix3Xd& points, const KdTree& tree, const std::vector<double>& over, double foot,
+                  double link, std::vector<std::uint8_t>& marked) {
   constexpr int k = 8;
-  KdTree tree;
-  tree.build(points);
   const std::vector<std::int32_t> graph = knn_graph(tree, points, k);
   std::vector<Index> stack;
   for (Index e = 0; e < points.cols(); ++e)
@@ -1336,8 +1335,9 @@ void grow_to_foot(const Eigen::Matrix3Xd& points, const std::vector<double>& ove
 // under `height`, were turned round the body by turns of 100-160 degrees, in arcs over a hole the copy rule left them
 // (F 0.922; template blending 0.960). Empty when the scan repeats or in transfer.
 std::vector<std::uint8_t> unrepeated_relief(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep,
-                                            const Eigen::Vector3d& offset, const KdTree& target_tree,
-                                            const Synthesis& out, double height, double foot, double link) {
+                                            const KdTree& exemplar_tree, const Eigen::Vector3d& offset,
+                                            const KdTree& target_tree, const Synthesis& out, double height, double foot,
+                                            double link) {
   if (!in.covered || !out.repeats.empty()) return {};
   std::vector<double> over(size_t(ep.cols()));
   tbb::parallel_for(Index(0), ep.cols(), [&](Index e) {
@@ -1345,7 +1345,7 @@ std::vector<std::uint8_t> unrepeated_relief(const SynthesisInputs& in, const Eig
   });
   std::vector<std::uint8_t> off(size_t(ep.cols()), 0);
   for (Index e = 0; e < ep.cols(); ++e) off[size_t(e)] = over[size_t(e)] > height;
-  grow_to_foot(ep, over, foot, link, off);
+  grow_to_foot(ep, exemplar_tree, over, foot, link, off);
   return off;
 }
 
@@ -1393,12 +1393,13 @@ struct CarriedRelief {
   }
 };
 
-CarriedRelief carried_relief(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const Eigen::Vector3d& offset,
-                             const KdTree& target_tree, const Synthesis& out, double spacing) {
+CarriedRelief carried_relief(const SynthesisInputs& in, const Eigen::Matrix3Xd& ep, const KdTree& exemplar_tree,
+                             const Eigen::Vector3d& offset, const KdTree& target_tree, const Synthesis& out,
+                             double spacing) {
   constexpr double kRelief = 1.0;  // how far out of the template, in alpha, a sample stands to be relief
-  CarriedRelief c{
-      unrepeated_relief(in, ep, offset, target_tree, out, kUnrepeatedRelief * spacing, kRelief * spacing, 3 * spacing),
-      banded_relief(in, ep, offset, target_tree, out, kRelief * spacing), std::nullopt};
+  CarriedRelief c{unrepeated_relief(in, ep, exemplar_tree, offset, target_tree, out, kUnrepeatedRelief * spacing,
+                                    kRelief * spacing, 3 * spacing),
+                  banded_relief(in, ep, offset, target_tree, out, kRelief * spacing), std::nullopt};
   if (!c.banded.empty()) c.bands = out.repeats[0];
   return c;
 }
@@ -1712,7 +1713,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   // offset d off the template (the exemplar does), and a source sample lies on its exemplar sample up to relief (the
   // correspondence deforms the template onto the scan): so in the template's frame, each transform followed by -d.
   std::vector<Eigen::Vector3d> landed;
-  const CarriedRelief carried = carried_relief(in, ep, out.registration_offset, target_tree, out, spacing);
+  KdTree exemplar_tree;  // what the scan's own relief, its repeats and its mirror are measured on (completion)
+  if (in.covered) exemplar_tree.build(ep);
+  const CarriedRelief carried =
+      carried_relief(in, ep, exemplar_tree, out.registration_offset, target_tree, out, spacing);
   for (int l = 0; l < int(in.transforms.size()); ++l) {
     if (region_size[size_t(l)] == 0) continue;
     const auto& split = splits[size_t(l)];
@@ -1732,8 +1736,6 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     }
   }
 
-  KdTree exemplar_tree;  // what the repeats and the mirror are checked against
-  if (in.covered && (o.repeats || o.mirror)) exemplar_tree.build(ep);
   if (in.covered && o.repeats)
     fill_by_repeats(in, ep, en, exemplar_tree, out.registration_offset, target_tree, spacing, o, landed, b);
   if (in.covered && o.mirror)
