@@ -14,8 +14,10 @@ const double kFacesAlike = std::cos(20 * M_PI / 180);  // a scan sample faces it
 constexpr double kPlainDistance = 0.5;                 // alpha off that sample's plane
 constexpr double kSeenShare = 0.02;                    // of the tallied samples, for an axis to count as seen
 constexpr Index kSeenMin = 30;
-constexpr double kPlainMin = 0.4;  // the plainest axis' plain share, at least
-constexpr double kMargin = 0.25;   // over every other seen axis' share
+constexpr double kPlainMin = 0.4;        // the plainest axis' plain share, at least
+constexpr double kMargin = 0.25;         // over every other seen axis' share
+constexpr double kRaisedDistance = 1.5;  // alpha off that sample's plane, facing its way: relief, above scan noise
+constexpr double kRaisedMax = 0.05;      // the plainest axis' raised share, under
 
 // The index of the axis `normal` faces along, or -1.
 int axis_faced(const Eigen::Vector3d& normal, const std::vector<SymmetryAxis>& axes) {
@@ -39,6 +41,10 @@ double plain_share(const FaceTally& t) {
   return t.near > 0 ? double(t.plain) / double(t.near) : 0.0;
 }
 
+double raised_share(const FaceTally& t) {
+  return t.near > 0 ? double(t.raised) / double(t.near) : 0.0;
+}
+
 }  // namespace
 
 std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Similarity& exemplar_to_target,
@@ -59,8 +65,10 @@ std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Simila
     if (a < 0) continue;
     ++tallies[a].near;
     tallies[a].facing += std::abs(n.dot(axes[a].direction)) >= kFacesAlong;
-    tallies[a].plain +=
-        std::abs(n.dot(m)) >= kFacesAlike && std::abs(m.dot(p - target.positions().col(j))) <= kPlainDistance * spacing;
+    const bool alike = std::abs(n.dot(m)) >= kFacesAlike;
+    const double off_plane = std::abs(m.dot(p - target.positions().col(j)));
+    tallies[a].plain += alike && off_plane <= kPlainDistance * spacing;
+    tallies[a].raised += alike && off_plane > kRaisedDistance * spacing;
   }
   return tallies;
 }
@@ -80,6 +88,7 @@ std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, cons
   std::stable_sort(seen.begin(), seen.end(), plainer);
   const double best = plain_share(tallies[seen[0]]);
   if (best < kPlainMin || best < plain_share(tallies[seen[1]]) + kMargin) return std::nullopt;
+  if (raised_share(tallies[seen[0]]) >= kRaisedMax) return std::nullopt;
   return canonical_sign(axes[seen[0]].direction.normalized());
 }
 

@@ -29,6 +29,7 @@ struct FaceTally {
   Index near = 0;
   Index facing = 0;
   Index plain = 0;
+  Index raised = 0;  // of the near ones, those facing that sample's way but standing 1.5 alpha off its plane (relief)
 };
 
 // The tallies of the scan (`exemplar`, with normals, moved onto the template by `exemplar_to_target`) against the
@@ -41,8 +42,14 @@ std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Simila
 // of the axes the scan sees (samples facing along it: at least 2% of all tallied, and 30; not only the relief's walls
 // near the face's edge), at least two; the plainest has at least 40%
 // of its samples plain, and a share 0.25 above every other seen axis' (the ribbed box: 0.52-0.98 on its lid or floor,
-// 0.20-0.55 on its sides, seen from the sweep's views). None otherwise (the scan sees one side only, or
-// the object's sides are as plain as its lid).
+// 0.20-0.55 on its sides, seen from the sweep's views), and under 5% raised: a lid is plain. None otherwise (the scan
+// sees one side only, or the object's sides are as plain as its lid, or its plainest faces carry relief). The ribbed
+// box seen nearly square to its long side, (-0.22, -0.97, 0.07), a short side at a graze and its lid unseen: the long
+// side (its ribs cover a third of it) was plainer than the grazed side, and up along its depth took quarter turns
+// about that axis as upright, the short side's ribs on the lid and floor (F 0.877, template blending 0.907). Raised
+// shares seen on the sweep's views: the ribbed box's sides 8.7-14%, its lid and floor 0; the scanned square pillar's
+// sides 3-70%, its lid and floor 0-1.2% (samples off the plane that face elsewhere, its capital's mouldings, are
+// many).
 std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, const Similarity& exemplar_to_target,
                                                   const PointSet& target, const std::vector<SymmetryAxis>& axes,
                                                   double spacing);
