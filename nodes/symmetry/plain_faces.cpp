@@ -37,12 +37,13 @@ Eigen::Vector3d canonical_sign(const Eigen::Vector3d& d) {
   return d[largest] < 0 ? Eigen::Vector3d(-d) : d;
 }
 
-double plain_share(const FaceTally& t) {
-  return t.near > 0 ? double(t.plain) / double(t.near) : 0.0;
+// The share of an axis' near samples that `count` of them are.
+double share_of(Index count, const FaceTally& t) {
+  return t.near > 0 ? double(count) / double(t.near) : 0.0;
 }
 
-double raised_share(const FaceTally& t) {
-  return t.near > 0 ? double(t.raised) / double(t.near) : 0.0;
+double plain_share(const FaceTally& t) {
+  return share_of(t.plain, t);
 }
 
 }  // namespace
@@ -88,7 +89,7 @@ std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, cons
   std::stable_sort(seen.begin(), seen.end(), plainer);
   const double best = plain_share(tallies[seen[0]]);
   if (best < kPlainMin || best < plain_share(tallies[seen[1]]) + kMargin) return std::nullopt;
-  if (raised_share(tallies[seen[0]]) >= kRaisedMax) return std::nullopt;
+  if (share_of(tallies[seen[0]].raised, tallies[seen[0]]) >= kRaisedMax) return std::nullopt;
   return canonical_sign(axes[seen[0]].direction.normalized());
 }
 

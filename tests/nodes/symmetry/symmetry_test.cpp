@@ -550,11 +550,12 @@ TEST(PlainFaces, TheUpOfABoxThatIsNotSquareIsTheAxisOfItsPlainLidAndFloor) {
       << "one side";
 }
 
-// The scan's samples as the pipeline has them: a range scan of `model` from `direction` (2.6 times its diagonal out
-// from its centre, as bench/robustness.py places the eye), sampled at `spacing` with its normals estimated.
-PointSet range_scan_samples(const PointSet& model, const Eigen::Vector3d& centre, double diagonal,
-                            const Eigen::Vector3d& direction, double spacing) {
-  const Eigen::Vector3d eye = centre + 2.6 * diagonal * direction.normalized();
+// The scan's samples as the pipeline has them: a range scan of `model` from `direction` (the eye 2.6 times its
+// bounding box's diagonal out from the box's centre, at bench/robustness.py's distance), sampled at `spacing` with its
+// normals estimated.
+PointSet range_scan_samples(const PointSet& model, const Eigen::Vector3d& direction, double spacing) {
+  const BoundingBox box = bounding_box(model.positions());
+  const Eigen::Vector3d eye = (box.min + box.max) / 2 + 2.6 * box.diagonal() * direction.normalized();
   const PointSet points = virtual_scan(model, default_camera(model, eye, std::nullopt, std::nullopt)).points;
   return estimate_features(sample(points, {.spacing = spacing}).samples, {}).points;
 }
@@ -571,9 +572,7 @@ TEST(PlainFaces, ASideThatCarriesReliefIsNoLidHoweverPlainerThanTheOthersSeen) {
   const double alpha = template_samples.spacing;
   const SymmetryResult r = find_symmetries(box, alpha, {});
   const PointSet model = make_ribbed_box();
-  const Eigen::Vector3d centre(0, 0, 0.3);
-  const double diagonal = std::sqrt(0.8 * 0.8 + 0.5 * 0.5 + 0.6 * 0.6);
-  const PointSet square_on = range_scan_samples(model, centre, diagonal, Eigen::Vector3d(-0.22, -0.97, 0.07), alpha);
+  const PointSet square_on = range_scan_samples(model, Eigen::Vector3d(-0.22, -0.97, 0.07), alpha);
   const std::vector<FaceTally> t = plain_face_tallies(square_on, Similarity{}, box, r.axes, alpha);
   const auto long_side = std::find_if(r.axes.begin(), r.axes.end(),
                                       [](const SymmetryAxis& a) { return std::abs(a.direction.y()) > 0.999; });
@@ -582,7 +581,7 @@ TEST(PlainFaces, ASideThatCarriesReliefIsNoLidHoweverPlainerThanTheOthersSeen) {
   EXPECT_GT(double(side.plain) / double(side.near), 0.4) << "plain enough to pass for a lid by its plain share";
   EXPECT_GT(double(side.raised) / double(side.near), 0.08);
   EXPECT_FALSE(plainest_face_axis(square_on, Similarity{}, box, r.axes, alpha));
-  const PointSet above = range_scan_samples(model, centre, diagonal, Eigen::Vector3d(0.2, -1, 0.5), alpha);
+  const PointSet above = range_scan_samples(model, Eigen::Vector3d(0.2, -1, 0.5), alpha);
   const auto up = plainest_face_axis(above, Similarity{}, box, r.axes, alpha);
   ASSERT_TRUE(up);
   EXPECT_TRUE(up->isApprox(Eigen::Vector3d::UnitZ(), 1e-6)) << up->transpose();
