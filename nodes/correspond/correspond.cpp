@@ -934,6 +934,14 @@ Eigen::Vector3d on_body_if_any(const Eigen::Vector3d& p, const PolygonBody& body
   return body.sides > 0 ? Eigen::Vector3d(on_polygon_body(PointSet(Eigen::Matrix3Xd(p)), body).positions().col(0)) : p;
 }
 
+// Whether a template bounds the scan where `placed` says it lies, touching it (as cut_through_its_bounding_template
+// asks as given). The scanned pillar seen square on a side, level with it, in its `box:`: its panel lies up to 10
+// spacings inside the box, and only its capital and base, 16% of the scan, lay within escape_distance of it; it was
+// refused as not overlapping its template, which bounds it as drawn.
+bool sunk_in_its_bounding_template(const Placement& placed) {
+  return placed.outside <= kBoundsAsGiven && placed.on >= kTouches;
+}
+
 // Throws InputError unless at least min_overlap of `points` lie within `within` of the source (`tree`): `when` says at
 // which step ("" before registration), `limit` how `within` was chosen.
 void require_overlap(const KdTree& tree, const Eigen::Matrix3Xd& points, double within, const CorrespondOptions& o,
@@ -958,9 +966,11 @@ void deform_onto(const PointSet& exemplar, const PointSet& source, const KdTree&
     r.registered.col(i) = r.rigid.apply(exemplar.positions().col(i));
     normals.col(i) = exemplar.has_normals() ? r.rigid.apply_normal(exemplar.normals().col(i)) : Eigen::Vector3d::Zero();
   }
-  // A scan laid on the template's axis may stand off it in profile (a vase in a cylinder): it must lie as near as the
-  // inputs had to before registration.
-  const double near = r.laid_on_axis ? std::max(o.escape_distance * spacing, 0.1 * ds) : o.escape_distance * spacing;
+  // A scan laid on the template's axis may stand off it in profile (a vase in a cylinder), and one its template bounds
+  // lies in the hull its relief is sunk in: it must lie as near as the inputs had to before registration.
+  const bool sunk = sunk_in_its_bounding_template(placement_on_source(exemplar, source, tree, r.rigid, spacing));
+  const double near =
+      r.laid_on_axis || sunk ? std::max(o.escape_distance * spacing, 0.1 * ds) : o.escape_distance * spacing;
   require_overlap(tree, r.registered, near, o, "after rigid registration ", "");
 
   // Alternate assignment and embedded deformation, relaxing the stiffness.

@@ -153,6 +153,27 @@ TEST(Correspond, KeepsAScansOwnPoseInsideTheBoxItsSunkReliefWouldPullItThrough) 
   EXPECT_FALSE(moved.kept_input_pose);
 }
 
+// The scanned pillar seen square on a side, level with it, inside its bounding box: its panel lies up to 10 spacings
+// inside the box, and only its capital and base, 16% of the scan, lie within escape_distance (3 alpha) of it, in any
+// pose. The box bounds the scan, so it lies as near as the inputs had to before registration (10% of the template's
+// diagonal), and is not refused as not overlapping its template. Moved a diagonal away, it is.
+TEST(Correspond, TakesAScanWhoseReliefIsSunkInTheBoxThatBoundsIt) {
+  SCANFILL_REQUIRE_SHARED_DATA();
+  const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
+  const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
+  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
+  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
+  view.target = (low + high) / 2;
+  view.eye = view.target + 2.6 * (high - low).norm() * Eigen::Vector3d(-1, 0.03, -0.01).normalized();
+  const PointSet scan = virtual_scan(pillar, view).points;
+  const PointSet box = estimate_features(t.samples, {}).points;
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  EXPECT_NO_THROW(correspond(featured(scan, t.spacing), box, t.spacing, o));
+  const Similarity away{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, (high - low).norm()), 1.0};
+  EXPECT_THROW(correspond(featured(transformed(scan, away), t.spacing), box, t.spacing, o), InputError);
+}
+
 // The vase seen from its front, in a plain cylinder of its height (radius 0.33; the vase's 0.28-0.40): ICP fits the
 // scan's bulge to the cylinder by tilting it about 10 degrees, its axis 11 cm off the cylinder's at its foot, and
 // every turned image stood askew. Both are bodies of revolution, so the scan's own axis (where its normals meet) is
