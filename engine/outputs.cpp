@@ -388,7 +388,9 @@ nlohmann::json symmetry_json(const Labelled& a) {
           {"votes_quotiented", bool(s.source_symmetry.continuous)},
           {"voted_transforms", a.supports->voted},
           {"composed_candidates", a.supports->composed},
-          {"refuted_by_scan_profile", a.supports->refuted}};
+          {"refuted_by_scan_profile", a.supports->refuted},
+          {"up", json_vec(a.supports->up)},
+          {"up_from", a.supports->up_from}};
 }
 
 // Mode exchange: a part box as the report writes it.

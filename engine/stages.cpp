@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include "engine/console.h"
 #include "engine/fields.h"
@@ -13,6 +15,7 @@
 #include "nodes/io/read_ply_chunks.h"
 #include "nodes/procedural/castle.h"
 #include "nodes/scan/virtual_scan.h"
+#include "nodes/symmetry/ground.h"
 #include "nodes/symmetry/plain_faces.h"
 #include "nodes/symmetry/profile.h"
 #include "nodes/synthesize/repeats.h"
@@ -424,24 +427,33 @@ FoundModesPtr modes_stage(RunState& state, const VotesPtr& in) {
 namespace {
 
 // label.up, else the target's own axis, else (completion) the target's axis whose faces the scan shows plainest, else
-// +z, said when the config does not set it (a model drawn y-up without a telling symmetry or scan needs the key).
-Eigen::Vector3d up_direction(const LabelOptions& label, const Votes& v) {
-  if (label.up) return *label.up;
+// the one whose faces it does not show where it shows the other two (plain_faces.h), else the one it stands on the
+// origin's plane along (ground.h), else +z, said when the config does not set it (a model drawn y-up without a telling
+// symmetry, scan or ground needs the key). With where it came from, for the report.
+std::pair<Eigen::Vector3d, const char*> up_direction(const LabelOptions& label, const Votes& v) {
+  if (label.up) return {*label.up, "label.up"};
   const SymmetryResult& symmetry = v.symmetries->target_symmetry;
-  const auto say = [](const Eigen::Vector3d& up, const char* why) {
+  const auto say = [](const Eigen::Vector3d& up, const char* from, const char* why) {
     node_logger("support")->info("up ({:.3g}, {:.3g}, {:.3g}): {}", up.x(), up.y(), up.z(), why);
-    return up;
+    return std::pair{up, from};
   };
-  if (const auto axis = upright_axis(symmetry)) return say(*axis, "the target's symmetry axis");
+  if (const auto axis = upright_axis(symmetry)) return say(*axis, "symmetry", "the target's symmetry axis");
   const Correspondence* scan = v.symmetries->correspondence.get();
-  if (scan && symmetry.axes.size() > 1)
-    if (const auto plain = plainest_face_axis(scan->exemplar->features.points, scan->map.rigid,
-                                              v.target()->features.points, symmetry.axes, v.spacing()))
-      return say(*plain, "the target's axis whose faces the scan shows plainest (a lid and a floor)");
+  if (scan && symmetry.axes.size() > 1) {
+    const std::vector<FaceTally> tallies = plain_face_tallies(scan->exemplar->features.points, scan->map.rigid,
+                                                              v.target()->features.points, symmetry.axes, v.spacing());
+    if (const auto plain = plainest_face_axis(tallies, symmetry.axes))
+      return say(*plain, "plainest_faces", "the target's axis whose faces the scan shows plainest (a lid and a floor)");
+    if (const auto unseen = unseen_face_axis(tallies, symmetry.axes))
+      return say(*unseen, "unseen_faces",
+                 "the target's axis whose faces the scan does not show, where it shows two sides (seen from around)");
+    if (const auto ground = grounded_axis(v.target()->features.points, symmetry.axes))
+      return say(*ground, "ground", "the target's axis along which it stands on the origin's plane, as drawn");
+  }
   node_logger("support")->info(
-      "up +z: neither the target's symmetry nor the scan singles out an axis (set label.up for a model drawn "
-      "otherwise)");
-  return Eigen::Vector3d::UnitZ();
+      "up +z: neither the target's symmetry, nor the scan, nor the plane it stands on singles out an axis (set "
+      "label.up for a model drawn otherwise)");
+  return {Eigen::Vector3d::UnitZ(), "default"};
 }
 
 // Whether the scan repeats about the target's axis of revolution (completion). Its quarter and half turns are the
@@ -508,7 +520,7 @@ SupportsPtr support_stage(RunState& state, const FoundModesPtr& in) {
       snap_to_family_representatives(voted.transforms, *axis);
     // The candidates the paper expects: the motions found, composed with T's own symmetries (DESIGN section 9).
     const SymmetryResult& symmetry = v.symmetries->target_symmetry;
-    s->up = up_direction(config.label, v);
+    std::tie(s->up, s->up_from) = up_direction(config.label, v);
     std::vector<Mode> composed =
         composed_candidates(voted.transforms, symmetry, T, v.spacing(), s->up, config.symmetry,
                             scan ? &scan->exemplar->features.points : nullptr, scan ? scan->map.rigid : Similarity{});

@@ -96,7 +96,11 @@ struct Supports {
   Index refuted = 0;                              // completion: candidates the scan's radii about T's axis refute
   bool scan_repeats = false;                      // completion: the scan repeats about the target's axis
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // label.up, else the target's own axis, else the axis of the faces
-                                                  // the scan shows plainest, else +z (label and synthesize use it)
+                                                  // the scan shows plainest, else the axis of the faces it does not
+                                                  // show, else the axis it stands on the ground along, else +z (label
+                                                  // and synthesize use it)
+  const char* up_from = "default";  // where it came from: label.up, symmetry, plainest_faces, unseen_faces, ground or
+                                    // default (the report's)
 };
 using SupportsPtr = std::shared_ptr<const Supports>;
 struct Labelled {

@@ -39,7 +39,8 @@ OptionTable option_table(LabelOptions& l) {
        {"up", &l.up,
         "the object's up direction [x, y, z] for the upright terms; ~ = the target's axis of rotational symmetry "
         "(continuous, else the one of highest order when it is unique), else (completion) its axis whose faces the "
-        "scan shows plainest, else +z",
+        "scan shows plainest, else its axis whose faces the scan does not show (two sides seen), else the axis it "
+        "stands on the origin's plane along, else +z",
         [p = &l.up]() -> std::optional<std::string> {
           if (!*p || (p->value().allFinite() && p->value().norm() > 1e-12)) return std::nullopt;
           return "expected a non-zero direction [x, y, z] or ~";

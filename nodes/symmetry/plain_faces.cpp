@@ -18,6 +18,7 @@ constexpr double kPlainMin = 0.4;        // the plainest axis' plain share, at l
 constexpr double kMargin = 0.25;         // over every other seen axis' share
 constexpr double kRaisedDistance = 1.5;  // alpha off that sample's plane, facing its way: relief, above scan noise
 constexpr double kRaisedMax = 0.05;      // the plainest axis' raised share, under
+constexpr double kSideShare = 0.1;       // of the tallied samples, facing along each side's axis seen from around
 
 // The index of the axis `normal` faces along, or -1.
 int axis_faced(const Eigen::Vector3d& normal, const std::vector<SymmetryAxis>& axes) {
@@ -44,6 +45,21 @@ double share_of(Index count, const FaceTally& t) {
 
 double plain_share(const FaceTally& t) {
   return share_of(t.plain, t);
+}
+
+Index tallied_samples(const std::vector<FaceTally>& tallies) {
+  Index tallied = 0;
+  for (const FaceTally& t : tallies) tallied += t.near;
+  return tallied;
+}
+
+// The axes the scan sees: at least `share` of the tallied samples (and kSeenMin) face along them.
+std::vector<size_t> axes_seen(const std::vector<FaceTally>& tallies, double share) {
+  const Index least = std::max<Index>(kSeenMin, Index(std::ceil(share * double(tallied_samples(tallies)))));
+  std::vector<size_t> seen;
+  for (size_t a = 0; a < tallies.size(); ++a)
+    if (tallies[a].facing >= least) seen.push_back(a);
+  return seen;
 }
 
 }  // namespace
@@ -77,13 +93,12 @@ std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Simila
 std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, const Similarity& exemplar_to_target,
                                                   const PointSet& target, const std::vector<SymmetryAxis>& axes,
                                                   double spacing) {
-  const std::vector<FaceTally> tallies = plain_face_tallies(exemplar, exemplar_to_target, target, axes, spacing);
-  Index tallied = 0;
-  for (const FaceTally& t : tallies) tallied += t.near;
-  const Index seen_min = std::max<Index>(kSeenMin, Index(std::ceil(kSeenShare * double(tallied))));
-  std::vector<size_t> seen;
-  for (size_t a = 0; a < tallies.size(); ++a)
-    if (tallies[a].facing >= seen_min) seen.push_back(a);
+  return plainest_face_axis(plain_face_tallies(exemplar, exemplar_to_target, target, axes, spacing), axes);
+}
+
+std::optional<Eigen::Vector3d> plainest_face_axis(const std::vector<FaceTally>& tallies,
+                                                  const std::vector<SymmetryAxis>& axes) {
+  std::vector<size_t> seen = axes_seen(tallies, kSeenShare);
   if (seen.size() < 2) return std::nullopt;
   const auto plainer = [&](size_t a, size_t b) { return plain_share(tallies[a]) > plain_share(tallies[b]); };
   std::stable_sort(seen.begin(), seen.end(), plainer);
@@ -91,6 +106,15 @@ std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, cons
   if (best < kPlainMin || best < plain_share(tallies[seen[1]]) + kMargin) return std::nullopt;
   if (share_of(tallies[seen[0]].raised, tallies[seen[0]]) >= kRaisedMax) return std::nullopt;
   return canonical_sign(axes[seen[0]].direction.normalized());
+}
+
+std::optional<Eigen::Vector3d> unseen_face_axis(const std::vector<FaceTally>& tallies,
+                                                const std::vector<SymmetryAxis>& axes) {
+  if (tallies.size() != 3 || axes.size() != 3) return std::nullopt;
+  const std::vector<size_t> sides = axes_seen(tallies, kSideShare);
+  if (sides.size() != 2 || axes_seen(tallies, kSeenShare).size() != 2) return std::nullopt;
+  const size_t unseen = 3 - sides[0] - sides[1];
+  return canonical_sign(axes[unseen].direction.normalized());
 }
 
 }  // namespace scanfill

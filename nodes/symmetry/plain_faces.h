@@ -53,5 +53,19 @@ std::vector<FaceTally> plain_face_tallies(const PointSet& exemplar, const Simila
 std::optional<Eigen::Vector3d> plainest_face_axis(const PointSet& exemplar, const Similarity& exemplar_to_target,
                                                   const PointSet& target, const std::vector<SymmetryAxis>& axes,
                                                   double spacing);
+// The same from the tallies of `plain_face_tallies`.
+std::optional<Eigen::Vector3d> plainest_face_axis(const std::vector<FaceTally>& tallies,
+                                                  const std::vector<SymmetryAxis>& axes);
+
+// The axis (signed as above) whose faces a scan taken from around the object does not show: of three axes, the scan
+// sees two, each with at least 10% of the tallied samples facing along it, and the third not at all (under 2%, or 30
+// samples). A scan taken at the height of a box's sides sees two of them at their shared edge, and neither its lid nor
+// its floor: the scanned square pillar seen level with a corner, where its lid is unseen, its bounding box is not
+// square (0.20 by 0.24 across) and it is drawn y-up, took +z for up and laid its sides' relief on its lid and floor (F
+// 0.47-0.53, under the scan alone's 0.53-0.56). A view from above towards one side shows that side and the lid and not
+// the third axis either, so this is asked only after the plain lid (plainest_face_axis): ours, a prior that scans are
+// taken from around an object rather than from above one of its sides.
+std::optional<Eigen::Vector3d> unseen_face_axis(const std::vector<FaceTally>& tallies,
+                                                const std::vector<SymmetryAxis>& axes);
 
 }  // namespace scanfill
