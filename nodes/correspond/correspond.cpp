@@ -199,9 +199,11 @@ double relief_thickness(const PointSet& exemplar, const PointSet& source, const 
 // (a tenth of it on each side), the relief has pulled it, however far: the scanned pillar, its faces' panels sunk up
 // to 10 spacings inside its `box:`, was turned 1.6-17.7 degrees and moved 5-20 spacings by ICP, and every turned image
 // of it landed twice that off the unseen faces (F 0.44-0.64; 0.61-0.72 in its own pose). A scan moved or turned off
-// its template cuts through it as given, and ICP's pose stands.
+// its template cuts through it as given, and ICP's pose stands. Seen level with its sides, the pillar touches its box
+// only with the edges of its capital and base: 2.4-4.7% of the scan as given (5% was asked until stop 64), and ICP
+// turned it 5-9 degrees and moved it 2.5 cm, a third of it outside the box (F 0.51-0.59; 0.72-0.75 in its own pose).
 constexpr double kBoundsAsGiven = 0.02;  // at most this share on the far side as given
-constexpr double kTouches = 0.05;        // at least this share on the template as given
+constexpr double kTouches = 0.02;        // at least this share on the template as given
 constexpr double kCutThrough = 0.1;      // at least this share on each side in ICP's pose
 
 bool cut_through_its_bounding_template(const Placement& as_given, const Placement& registered) {
