@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <random>
 
 #include "nodes/core/errors.h"
@@ -125,6 +126,25 @@ TEST(Correspond, TurnsAScanInPlaceOntoABoxDrawnTurnedWhereItsReliefPullsICPsMove
   EXPECT_LT((m.rigid.apply(centre) - moved.apply(centre)).norm(), 0.002) << "centred along the box's length";
 }
 
+// The scanned pillar (drawn y-up) inside its bounding box, as correspond sees them: its range scan from `direction`
+// (2.6 diagonals out, 480 by 480 at 30 degrees, the image's up `up`) and the box's 20000 samples with features.
+struct PillarInItsBox {
+  PointSet scan, box;
+  double spacing = 0, diagonal = 0;
+};
+
+PillarInItsBox pillar_in_its_box(const Eigen::Vector3d& direction,
+                                 const std::optional<Eigen::Vector3d>& up = std::nullopt) {
+  const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
+  const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
+  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
+  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
+  view.target = (low + high) / 2;
+  view.eye = view.target + 2.6 * (high - low).norm() * direction.normalized();
+  if (up) view.up = *up;
+  return {virtual_scan(pillar, view).points, estimate_features(t.samples, {}).points, t.spacing, (high - low).norm()};
+}
+
 // The scanned pillar (drawn y-up) seen from the front obliquely, inside its bounding box: its faces' panels lie up to
 // 10 spacings inside the box, and only the frames and balusters touch it. ICP turned it 2.5 degrees and moved it 6.7
 // spacings, a tenth of it outside the box and a quarter inside; as given, none of it lies outside. The box bounds the
@@ -132,24 +152,16 @@ TEST(Correspond, TurnsAScanInPlaceOntoABoxDrawnTurnedWhereItsReliefPullsICPsMove
 // it.
 TEST(Correspond, KeepsAScansOwnPoseInsideTheBoxItsSunkReliefWouldPullItThrough) {
   SCANFILL_REQUIRE_SHARED_DATA();
-  const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
-  const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
-  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
-  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
-  view.target = (low + high) / 2;
-  view.eye = view.target + 2.6 * (high - low).norm() * Eigen::Vector3d(0.6, 0.4, 0.8).normalized();
-  view.up = Eigen::Vector3d::UnitY();
-  const PointSet scan = virtual_scan(pillar, view).points;
-  const PointSet box = estimate_features(t.samples, {}).points;
+  const PillarInItsBox p = pillar_in_its_box(Eigen::Vector3d(0.6, 0.4, 0.8), Eigen::Vector3d::UnitY());
   CorrespondOptions o;
   o.outer_iterations = 0;
-  const CorrespondResult kept = correspond(featured(scan, t.spacing), box, t.spacing, o);
+  const CorrespondResult kept = correspond(featured(p.scan, p.spacing), p.box, p.spacing, o);
   EXPECT_TRUE(kept.kept_input_pose);
   EXPECT_EQ(rotation_angle(kept.rigid.rotation), 0.0);
   EXPECT_EQ(kept.rigid.translation.norm(), 0.0);
   const Similarity motion{Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix(),
                           Eigen::Vector3d(0.015, 0, 0.01), 1.0};
-  const CorrespondResult moved = correspond(featured(transformed(scan, motion), t.spacing), box, t.spacing, o);
+  const CorrespondResult moved = correspond(featured(transformed(p.scan, motion), p.spacing), p.box, p.spacing, o);
   EXPECT_FALSE(moved.kept_input_pose);
 }
 
@@ -159,17 +171,10 @@ TEST(Correspond, KeepsAScansOwnPoseInsideTheBoxItsSunkReliefWouldPullItThrough) 
 // itself still bounds it, and the scan keeps its own pose (F 0.724).
 TEST(Correspond, KeepsTheOwnPoseOfAScanThatTouchesItsBoundingBoxOnlyAtItsEdges) {
   SCANFILL_REQUIRE_SHARED_DATA();
-  const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
-  const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
-  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
-  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
-  view.target = (low + high) / 2;
-  view.eye = view.target + 2.6 * (high - low).norm() * Eigen::Vector3d(1, 0, -1).normalized();
-  const PointSet scan = virtual_scan(pillar, view).points;
+  const PillarInItsBox p = pillar_in_its_box(Eigen::Vector3d(1, 0, -1));
   CorrespondOptions o;
   o.outer_iterations = 0;
-  const CorrespondResult r =
-      correspond(featured(scan, t.spacing), estimate_features(t.samples, {}).points, t.spacing, o);
+  const CorrespondResult r = correspond(featured(p.scan, p.spacing), p.box, p.spacing, o);
   EXPECT_TRUE(r.kept_input_pose);
   EXPECT_EQ(r.rigid.translation.norm(), 0.0);
 }
@@ -180,19 +185,12 @@ TEST(Correspond, KeepsTheOwnPoseOfAScanThatTouchesItsBoundingBoxOnlyAtItsEdges) 
 // diagonal), and is not refused as not overlapping its template. Moved a diagonal away, it is.
 TEST(Correspond, TakesAScanWhoseReliefIsSunkInTheBoxThatBoundsIt) {
   SCANFILL_REQUIRE_SHARED_DATA();
-  const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
-  const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
-  const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
-  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
-  view.target = (low + high) / 2;
-  view.eye = view.target + 2.6 * (high - low).norm() * Eigen::Vector3d(-1, 0.03, -0.01).normalized();
-  const PointSet scan = virtual_scan(pillar, view).points;
-  const PointSet box = estimate_features(t.samples, {}).points;
+  const PillarInItsBox p = pillar_in_its_box(Eigen::Vector3d(-1, 0.03, -0.01));
   CorrespondOptions o;
   o.outer_iterations = 0;
-  EXPECT_NO_THROW(correspond(featured(scan, t.spacing), box, t.spacing, o));
-  const Similarity away{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, (high - low).norm()), 1.0};
-  EXPECT_THROW(correspond(featured(transformed(scan, away), t.spacing), box, t.spacing, o), InputError);
+  EXPECT_NO_THROW(correspond(featured(p.scan, p.spacing), p.box, p.spacing, o));
+  const Similarity away{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, p.diagonal), 1.0};
+  EXPECT_THROW(correspond(featured(transformed(p.scan, away), p.spacing), p.box, p.spacing, o), InputError);
 }
 
 // The vase seen from its front, in a plain cylinder of its height (radius 0.33; the vase's 0.28-0.40): ICP fits the
