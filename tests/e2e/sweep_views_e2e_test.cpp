@@ -22,6 +22,7 @@
 #include "nodes/io/write_ply.h"
 #include "nodes/procedural/shapes.h"
 #include "nodes/scan/virtual_scan.h"
+#include "sweep_camera.h"
 #include "test_util.h"
 
 namespace scanfill {
@@ -73,9 +74,8 @@ SweepRun complete_seen(const std::string& shape, const std::string& templ, const
                                                : load_input(parse_input(template_spec)).points;
   if (choice.box_template) write_ply(dir / "model.ply", model);
   if (choice.box_drawn) write_ply(dir / "box.ply", plain);
-  ScanOptions camera = default_camera(drawn, eye, centre, std::nullopt);
+  ScanOptions camera = test::sweep_camera(drawn, eye, centre);
   camera.width = camera.height = choice.resolution;
-  camera.fov_deg = 30;
   camera.noise = choice.noise * drawn_bounds.diagonal();
   const PointSet seen = virtual_scan(drawn, camera).points;
   const PointSet scan = moved_by(seen, turn);
@@ -107,8 +107,7 @@ SweepRun complete_seen(const std::string& shape, const std::string& templ, const
 SweepRun complete_from(const std::string& shape, const std::string& templ, const Eigen::Vector3d& view,
                        RunChoice choice = {}) {
   const BoundingBox box = bounding_box(make_shape(shape).positions());
-  const Eigen::Vector3d centre = (box.min + box.max) / 2;
-  return complete_seen(shape, templ, centre + 2.6 * box.diagonal() * view.normalized(), centre, choice);
+  return complete_seen(shape, templ, test::sweep_eye(box, view), (box.min + box.max) / 2, choice);
 }
 
 // The table's centre as bench/robustness.py puts it (its bounding box from 2000 samples; the exact box's centre is
@@ -659,13 +658,7 @@ PillarRun pillar_seen_along(const Eigen::Vector3d& view) {
   test::TempDir dir;
   const auto path = test::shared_data() / "models" / "threedscans_Column03.obj";
   const PointSet model = read_point_set(path).points;
-  const BoundingBox bounds = bounding_box(model.positions());
-  const Eigen::Vector3d centre = (bounds.min + bounds.max) / 2;
-  ScanOptions camera =
-      default_camera(model, centre + 2.6 * bounds.diagonal() * view.normalized(), centre, std::nullopt);
-  camera.width = camera.height = 480;
-  camera.fov_deg = 30;
-  const PointSet scan = virtual_scan(model, camera).points;
+  const PointSet scan = virtual_scan(model, test::sweep_camera(model, view)).points;
   write_ply(dir / "scan.ply", scan);
   const std::string box = "box:" + path.string();
   RunConfig c;
@@ -677,7 +670,7 @@ PillarRun pillar_seen_along(const Eigen::Vector3d& view) {
   const PointSet output = read_point_set(dir / "out" / "output.ply").points;
   std::ifstream in(dir / "out" / "report.json");
   const PointSet plain = load_input(parse_input(box)).points;
-  const double tau = 0.01 * bounds.diagonal();
+  const double tau = 0.01 * bounding_box(model.positions()).diagonal();
   return {{evaluate(output, model, {}, &scan, &plain), nlohmann::json::parse(in)},
           evaluate(scan, model, {}, &scan, &plain),
           evaluate(template_blend(scan, plain, 2 * tau, {}), model, {}, &scan, &plain)};
