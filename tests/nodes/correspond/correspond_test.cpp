@@ -41,6 +41,23 @@ TEST(Correspond, RigidRegistrationUndoesASmallMotion) {
   EXPECT_LT(rotation_angle(undo.rotation) * 180 / M_PI, 0.5);
   EXPECT_LT(undo.translation.norm(), 0.5 * alpha);
   EXPECT_GT(r.matched, exemplar.size() * 9 / 10);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+// Inputs 30 degrees apart are not roughly aligned: ICP may bring them together, as here, or turn a scan onto a
+// template of another shape (the teapot in its bounding box, 27-56 degrees); either way the user is told.
+TEST(Correspond, TellsWhereTheRigidRegistrationTurnedTheScanFar) {
+  const PointSet blob = make_blob();
+  const SampleResult s = sample(blob, {.count = 6000});
+  const PointSet source = estimate_features(s.samples, {}).points;
+  const Similarity motion{Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(),
+                          Eigen::Vector3d::Zero(), 1.0};
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const CorrespondResult r = correspond(featured(transformed(blob, motion), s.spacing, 7), source, s.spacing, o);
+  EXPECT_LT(rotation_angle(r.rigid.compose(motion).rotation) * 180 / M_PI, 1.0);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("turned the scan 30 degrees"), std::string::npos) << r.warnings[0];
 }
 
 // The crate seen square on its front: half of what the scan sees is 2 cm of raised frame and diamond, so no rigid
