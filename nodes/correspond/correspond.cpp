@@ -249,6 +249,26 @@ bool relief_pulled_from(const PointSet& exemplar, const PointSet& source, const 
          as_given.on > registered.on;
 }
 
+// A round template runs through the middle of relief that stands both in and out of it (a gear's teeth about its
+// plain disk), so a scan of it has no ground on it: the gear seen edge-on from (-0.99, 0.11, 0.06), its teeth 8.5
+// spacings from tip to root, 28% of it on the disk as given (kGrounded asks a third), was moved 2.4 spacings and
+// turned 0.94 degrees by ICP, 19% on (F 0.879; 0.988 as given). On a round template, ICP's move under kDeepPull of
+// the relief's thickness, and a turn under what that thickness turns the scan, that put less of it on the template are
+// that relief's pull. A box's relief sunk as deep does not count so: a pillar moved 1.5 cm and 2 degrees off its box,
+// its panels 10 spacings deep, is registered by ICP (relief_pulled_from's moved crate and pillar). The cost: a scan of
+// such relief given off its round template by less than half the relief's thickness keeps that offset.
+constexpr double kDeepPull = 0.5;
+
+bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const PointSet& source, const KdTree& tree,
+                                             double spacing, const Placement& as_given, const Similarity& icp_pose,
+                                             const Placement& registered) {
+  if (as_given.on <= registered.on) return false;
+  const double depth = relief_thickness(exemplar, source, tree, icp_pose);
+  const double radius = std::max(radius_about_centroid(exemplar.positions()), spacing);
+  return rotation_angle(icp_pose.rotation) <= depth / radius &&
+         largest_displacement(exemplar.positions(), icp_pose) <= kDeepPull * depth;
+}
+
 // A template is a body of revolution where its normals meet an axis this nearly (normal_axis_misfit: 0 on a cylinder,
 // about 0.7 for normals that ignore it).
 constexpr double kRoundTemplate = 0.1;
@@ -546,7 +566,9 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
       symmetric ? nearest_identity_member(icp_fit, {round->centre, round->direction, 0}) : icp_fit;
   const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
   const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
-  if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered)) {
+  if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered) ||
+      (round &&
+       pulled_by_relief_about_a_round_template(exemplar, source, tree, spacing, as_given, icp_pose, registered))) {
     r.kept_input_pose = true;
     return Similarity{};
   }
