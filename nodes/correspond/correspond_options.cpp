@@ -10,7 +10,8 @@ OptionTable option_table(CorrespondOptions& co) {
       "Levenberg-Marquardt) alternating "
       "with a min-cost-flow assignment (LEMON)",
       {{"rigid", &co.rigid,
-        "rigid pre-alignment by ICP (inputs must be roughly aligned); false keeps the scan as given, on the template",
+        "rigid pre-alignment by ICP (inputs must be roughly aligned: a turn over 20 degrees is warned); false keeps "
+        "the scan as given, on the template",
         any()},
        {"rigid_iterations", &co.rigid_iterations, "ICP steps; [1, 500]",
         range(&co.rigid_iterations, 1, 500, false, "an integer in [1, 500]")},
