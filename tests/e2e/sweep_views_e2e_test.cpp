@@ -114,9 +114,6 @@ SweepRun complete_from(const std::string& shape, const std::string& templ, const
 // 0.2 mm lower, and some fits differ from there).
 const Eigen::Vector3d kSweepTableCentre(0, 0, 0.3802285185083747);
 
-// The gear's centre as bench/robustness.py puts it (its bounding box from 2000 samples).
-const Eigen::Vector3d kSweepGearCentre(-3.275275230407715e-05, -2.3871660232543945e-05, 0.07500000298023224);
-
 // Prints the run's scores under `what` and expects at least `f` and `unseen` (F-score, unseen-detail recall).
 void expect_scores(const SweepRun& run, const char* what, double f, double unseen) {
   std::printf("%s: F %.3f unseen-detail %.3f\n", what, run.result.fscore, run.result.unseen_detail_recall.value_or(0));
@@ -253,9 +250,8 @@ TEST(Gear, SeenEdgeOnTheRegistrationDoesNotTiltTheBand) {
 // (F 0.879, unseen-detail 0.60; 0.988 / 0.999 in its own pose). On a round template, such a pull of the relief leaves
 // the scan's own pose.
 TEST(Gear, SeenEdgeOnFromALittleAboveItsTeethDoNotPullItOffItsPose) {
-  const SweepRun run = complete_seen("gear", "gear_template",
-                                     Eigen::Vector3d(-3.742046092104117, 0.40418135506173797, 0.2999147885238472),
-                                     kSweepGearCentre, {.scan_file = true});
+  const SweepRun run =
+      complete_seen("gear", "gear_template", test::kGearEdgeOnEye, test::kSweepGearCentre, {.scan_file = true});
   EXPECT_TRUE(run.report["correspondence"]["kept_input_pose"].get<bool>());
   expect_scores(run, "gear edge-on from a little above", 0.97, 0.95);
 }

@@ -16,6 +16,7 @@
 #include "nodes/procedural/shapes.h"
 #include "nodes/sample/sample.h"
 #include "nodes/scan/virtual_scan.h"
+#include "sweep_camera.h"
 #include "test_util.h"
 
 namespace scanfill {
@@ -155,9 +156,7 @@ PillarInItsBox pillar_in_its_box(const Eigen::Vector3d& direction,
   const PointSet pillar = read_point_set(test::shared_data() / "models/threedscans_Column03.obj").points;
   const Eigen::Vector3d low = pillar.positions().rowwise().minCoeff(), high = pillar.positions().rowwise().maxCoeff();
   const SampleResult t = sample(make_lowpoly_box(high - low, (low + high) / 2), {.count = 20000});
-  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
-  view.target = (low + high) / 2;
-  view.eye = view.target + 2.6 * (high - low).norm() * direction.normalized();
+  ScanOptions view = test::sweep_camera(pillar, direction);
   if (up) view.up = *up;
   return {virtual_scan(pillar, view).points, estimate_features(t.samples, {}).points, t.spacing, (high - low).norm()};
 }
@@ -240,10 +239,8 @@ TEST(Correspond, LaysAScansOwnAxisOfRevolutionOnARoundTemplates) {
 // ICP moved it 2.4 spacings and turned it 0.94 degrees towards their middle; that is the relief's pull, and the scan
 // keeps its own pose. (ICP cannot register this scan: moved 2 cm in or out of the disk, it ends 1.5-3.1 cm inwards.)
 TEST(Correspond, KeepsTheOwnPoseOfAScanWhoseReliefStandsInAndOutOfARoundTemplate) {
-  ScanOptions view{.width = 480, .height = 480, .fov_deg = 30};
-  view.eye = Eigen::Vector3d(-3.742046092104117, 0.40418135506173797, 0.2999147885238472);
-  view.target = Eigen::Vector3d(-3.275275230407715e-05, -2.3871660232543945e-05, 0.07500000298023224);
-  PointSet scan = virtual_scan(make_gear(), view).points;
+  const PointSet gear = make_gear();
+  PointSet scan = virtual_scan(gear, test::sweep_camera(gear, test::kGearEdgeOnEye, test::kSweepGearCentre)).points;
   scan.set_positions(scan.positions().cast<float>().cast<double>());
   const SampleResult t = sample(make_gear_template(), {.count = 20000});
   CorrespondOptions o;
