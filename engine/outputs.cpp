@@ -199,6 +199,8 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
       {"turned_in_place", m.turned_in_place},
       {"laid_on_axis", m.laid_on_axis},
       {"polygon_sides", m.polygon.sides},
+      {"another_size", m.another_size},
+      {"template_scale", json_vec(m.template_scale)},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};

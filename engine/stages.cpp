@@ -315,7 +315,8 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
                                                    "{} sides, which stands in for it from here on",
                                                    c->map.polygon.sides)
                                      : std::string(),
-            c->map.kept_input_pose   ? " (ICP's, not taken: the scan's relief pulled it off the template)"
+            c->map.another_size      ? " (ICP's, not taken: the template is drawn at another size than the scan)"
+            : c->map.kept_input_pose ? " (ICP's, not taken: the scan's relief pulled it off the template)"
             : c->map.turned_in_place ? " (ICP's turn about the template's centroid: the scan's relief pulled its move)"
             : c->map.laid_on_axis    ? " (the scan's own axis of revolution laid on the template's)"
                                      : "",

@@ -11,8 +11,10 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <iomanip>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -23,6 +25,7 @@
 #include "nodes/correspond/correspond_options.h"
 #include "nodes/correspond/deformation_node.h"
 #include "nodes/correspond/deformation_solve.h"
+#include "nodes/correspond/template_size.h"
 #include "nodes/io/read_pp.h"
 #include "nodes/procedural/normal_axis.h"
 #include "nodes/sample/sample.h"
@@ -271,6 +274,44 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
   const double radius = std::max(radius_about_centroid(exemplar.positions()), spacing);
   return rotation_angle(icp_pose.rotation) <= depth / radius &&
          largest_displacement(exemplar.positions(), icp_pose) <= kDeepPull * depth;
+}
+
+// A template drawn at another size than the scan (template_size.h): ICP moved the scan over a spacing, and the template
+// scaled about its centroid lays at least as much of the scan in its own pose on itself as ICP's pose lays on it
+// unscaled, a third of the scan at least (kGrounded), with the scaling moving some of the template kAnotherSize
+// spacings. A studded box 8% narrower than its template: ICP moved the scan 2.9 spacings onto the template's front,
+// 77% of it on; scaled 1.1 across, the template lays 82% of it on itself as given. A scan given off a template of its
+// own size is not explained by a scaling (the same box moved off), and the 86 runs of the sweep's named views, whose
+// scans are given in their models' frames, have no scaling that lays a third on where ICP moved the scan a spacing.
+constexpr double kAnotherSize = 1.5;
+constexpr Index kSizeStride = 4;  // every this-many-th scan sample is asked (a scaling is a global fit)
+
+std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, const PointSet& source,
+                                                     const KdTree& tree, double spacing, const Similarity& icp_pose) {
+  if (!source.has_normals() || largest_displacement(exemplar.positions(), icp_pose) <= spacing) return std::nullopt;
+  const Index n = (exemplar.size() + kSizeStride - 1) / kSizeStride;
+  Eigen::Matrix3Xd own(3, n), moved(3, n);
+  for (Index i = 0; i < n; ++i) {
+    own.col(i) = exemplar.positions().col(i * kSizeStride);
+    moved.col(i) = icp_pose.apply(own.col(i));
+  }
+  double scaled_on = 0;
+  const TemplateScaling scaling = scaling_that_fits(own, source, tree, spacing, scaled_on);
+  const double registered_on = share_on_scaled(moved, source, tree, TemplateScaling{}, spacing);
+  if (scaled_on < kGrounded || scaled_on < registered_on ||
+      largest_scaling_move(source, scaling) < kAnotherSize * spacing)
+    return std::nullopt;
+  return scaling;
+}
+
+std::string another_size_warning(const TemplateScaling& s) {
+  std::ostringstream w;
+  w << std::fixed << std::setprecision(2) << "the template looks drawn at another size than the scan: scaled by "
+    << s.scale[0] << " x " << s.scale[1] << " x " << s.scale[2]
+    << " along its principal axes about its centroid, it lays as much of the scan in the scan's own pose on itself as "
+       "the rigid registration's move does unscaled; the scan keeps its own pose, and a template at the scan's size "
+       "serves best";
+  return w.str();
 }
 
 // A template is a body of revolution where its normals meet an axis this nearly (normal_axis_misfit: 0 on a cylinder,
@@ -574,6 +615,12 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
       (round &&
        pulled_by_relief_about_a_round_template(exemplar, source, tree, spacing, as_given, icp_pose, registered))) {
     r.kept_input_pose = true;
+    return Similarity{};
+  }
+  if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, icp_pose)) {
+    r.kept_input_pose = r.another_size = true;
+    r.template_scale = scaling->scale;
+    r.warnings.push_back(another_size_warning(*scaling));
     return Similarity{};
   }
   if (round) return icp_pose;

@@ -109,9 +109,14 @@ struct CorrespondResult {
   bool turned_in_place = false;               // rigid is ICP's turn about the source's centroid: the relief pulled
                                               // ICP's move
   bool laid_on_axis = false;                  // rigid lays the scan's own axis of revolution on the source's
-  PolygonBody polygon;                        // sides > 0: the source is a regular polygon, and the scan is registered
-                                              // and deformed onto on_polygon_body(source), which stands in for it
-  double deformed_rms = 0;                    // RMS distance of the matched pairs after deformation
+  // The template looks drawn at another size than the scan (template_size.h): scaled by template_scale along its
+  // principal axes (spread ascending) about its centroid, it lays at least as much of the scan in its own pose on
+  // itself as ICP's move does, so the scan keeps its own pose (kept_input_pose too); the template is not scaled.
+  bool another_size = false;
+  Eigen::Vector3d template_scale = Eigen::Vector3d::Ones();
+  PolygonBody polygon;      // sides > 0: the source is a regular polygon, and the scan is registered
+                            // and deformed onto on_polygon_body(source), which stands in for it
+  double deformed_rms = 0;  // RMS distance of the matched pairs after deformation
   // Ceres' summary of each outer iteration's deformation solve, in order (empty when only the rigid registration ran).
   std::vector<SolverSummary> deformation_solves;
   std::vector<std::string> warnings;

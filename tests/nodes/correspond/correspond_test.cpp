@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <optional>
 #include <random>
 
@@ -84,6 +85,36 @@ TEST(Correspond, KeepsAScansOwnPoseWhereItsReliefWouldPullItOffTheTemplate) {
   const CorrespondResult moved = correspond(featured(transformed(scan, motion), alpha), source, alpha, o);
   EXPECT_FALSE(moved.kept_input_pose);
   EXPECT_LT(rotation_angle(moved.rigid.compose(motion).rotation) * 180 / M_PI, 0.5);
+}
+
+// A box seen from above and in front, in a template drawn 8% narrower than it: ICP lays the scan on the template's
+// faces it sees, moving it some spacings (every turned image then lands that far off the unseen faces; a studded box
+// so: F 0.73, 0.98 in its own pose). Scaled 1.09 across, the template lays more of the scan in its own pose on itself
+// than ICP's move lays on it unscaled: a size, not a pose, and the scan keeps its own pose. The same scan moved 3 cm
+// off a box of its own size is registered by ICP.
+TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
+  const Eigen::Vector3d centre(0, 0, 0.45);
+  const PointSet box = make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.9), centre);
+  const PointSet scan = virtual_scan(box, test::sweep_camera(box, Eigen::Vector3d(0.25, -0.35, 1.0))).points;
+  const SampleResult narrow = sample(make_lowpoly_box(Eigen::Vector3d(0.552, 0.552, 0.9), centre), {.count = 20000});
+  const double alpha = narrow.spacing;
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const CorrespondResult r = correspond(featured(scan, alpha), estimate_features(narrow.samples, {}).points, alpha, o);
+  EXPECT_TRUE(r.another_size);
+  EXPECT_TRUE(r.kept_input_pose);
+  EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+  const std::vector<double> scale(r.template_scale.data(), r.template_scale.data() + 3);
+  EXPECT_EQ(std::count_if(scale.begin(), scale.end(), [](double s) { return s >= 1.06 && s <= 1.11; }), 2);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("drawn at another size"), std::string::npos) << r.warnings.back();
+
+  const SampleResult own = sample(box, {.count = 20000});
+  const Similarity motion{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.03, 0.02, 0), 1.0};
+  const CorrespondResult moved = correspond(featured(transformed(scan, motion), own.spacing),
+                                            estimate_features(own.samples, {}).points, own.spacing, o);
+  EXPECT_FALSE(moved.another_size);
+  EXPECT_LT(moved.rigid.compose(motion).translation.norm(), own.spacing);
 }
 
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
