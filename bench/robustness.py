@@ -9,7 +9,7 @@ median of F and unseen-detail, and the baselines' medians).
 
     python3 bench/robustness.py build [--out DIR] [--only SUBSTRING,...] [--threads N] [--json FILE] [--preset NAME]
                                       [--set KEY=VALUE]... [--check-floors] [--random-views N [--view-seed S]]
-                                      [--end-on] [--noise SHARE] [--resolution N]
+                                      [--end-on] [--noise SHARE] [--resolution N] [--held-out]
 
 --end-on replaces the six views by two nearly along the up axis (AXIS_VIEWS, 2 degrees off it): a scan of the top or
 the bottom only, as of an object lying on a table, where a column or a crate shows little of its style; with
@@ -18,6 +18,8 @@ the bottom only, as of an object lying on a table, where a column or a crate sho
 real scanner's: 0.003 is about a third of the F-score's threshold.
 --resolution sets the virtual scanner's image (N by N rays; 480 by default): 160 gives a sparse scan of some 6000
 points, sparser than the template's samples, whose points are then used as they are (unevenly dense).
+--held-out runs only the shapes of bench/heldout_shapes.py instead (a studded box, a golf ball, a twisted vase; no test
+or node of scanfill draws them), with the plain templates a user would draw, at their models' size and off it.
 With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
 each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
 
@@ -32,6 +34,8 @@ import statistics
 import subprocess
 import sys
 import time
+
+import heldout_shapes
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(os.path.dirname(ROOT), "shared", "data")
@@ -274,6 +278,9 @@ def main():
                     help="range noise of the virtual scans (sigma along the ray) as a share of the model's diagonal")
     ap.add_argument("--resolution", type=int, default=480, metavar="N",
                     help="the virtual scanner's image, N by N rays (a sparse scan: 160)")
+    ap.add_argument("--held-out", action="store_true",
+                    help="only the held-out shapes of bench/heldout_shapes.py (written under --out), with templates "
+                         "at and off their models' size")
     args = ap.parse_args()
     if args.end_on and args.random_views > 0:
         ap.error("--end-on and --random-views each replace the named views: give one of them")
@@ -286,26 +293,31 @@ def main():
     exe = os.path.join(os.path.abspath(args.build), "scanfill")
     os.makedirs(args.out, exist_ok=True)
     cases = []  # (shape, name, cfg, out_dir, eval args)
-    for shape, model, templates in COMPLETIONS + BEYOND_FLOORS:
+    completions = COMPLETIONS + BEYOND_FLOORS
+    if args.held_out:
+        if args.check_floors:
+            ap.error("--held-out shapes have no floors: leave out --check-floors")
+        completions = heldout_shapes.write_heldout(os.path.join(args.out, "held-out models"))
+    for shape, model, templates in completions:
         for template in templates:
             for view in VIEWS:
                 cases.append(("completion", shape, model, template, view, "z"))
     vaselion = os.path.join(DATA, "models", "vaselion.obj")
-    if os.path.exists(vaselion):
+    if os.path.exists(vaselion) and not args.held_out:
         for view in VIEWS:
             cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view, "z"))
         for shape, file, kind in REAL_Y_UP:
             model = os.path.join(DATA, "models", file)
             for view in VIEWS:
                 cases.append(("completion", shape, model, kind + model, view, "y"))
-    for shape, file, up in OWN_SCAN:
+    for shape, file, up in [] if args.held_out else OWN_SCAN:
         model = file if file.startswith("procedural:") else os.path.join(DATA, "models", file)
         if os.path.exists(model) or file.startswith("procedural:"):
             for view in VIEWS:
                 cases.append(("completion", shape, model, "revolution:SCAN", view, up))
     if not os.path.exists(vaselion):
         print(f"skipping the real cases: {vaselion} is absent", file=sys.stderr)
-    for t in TRANSFERS:
+    for t in [] if args.held_out else TRANSFERS:
         cases.append(("transfer",) + t)
     rows = []
     t_all = time.time()
