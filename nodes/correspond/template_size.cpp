@@ -79,6 +79,14 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
   return best;
 }
 
+PointSet scaled_source(const PointSet& source, const TemplateScaling& s) {
+  const Eigen::Matrix3d forward = scaling_matrix(s, false), back = scaling_matrix(s, true);
+  PointSet out = source;
+  out.set_positions((forward * (source.positions().colwise() - s.centre)).colwise() + s.centre);
+  if (source.has_normals()) out.set_normals((back * source.normals()).colwise().normalized());
+  return out;
+}
+
 double largest_scaling_move(const PointSet& source, const TemplateScaling& s) {
   const Eigen::Matrix3d change = scaling_matrix(s, false) - Eigen::Matrix3d::Identity();
   return (change * (source.positions().colwise() - s.centre)).colwise().norm().maxCoeff();

@@ -34,6 +34,9 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
+// The source's samples scaled: positions about the centre, normals by the inverse transpose (still unit length).
+PointSet scaled_source(const PointSet& source, const TemplateScaling& s);
+
 // The farthest the scaling moves any source sample.
 double largest_scaling_move(const PointSet& source, const TemplateScaling& s);
 
