@@ -285,9 +285,8 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 // itself as given, and ICP on it moves it 0.1-1.3 spacings. The scanned pillar moved 1.5 cm and turned 2 degrees off
 // its `box:` (its relief sunk up to 10 spacings inside it) is laid on as much by the box shrunk (36% against ICP's
 // 27%), but ICP moves it 4.2 spacings and turns it 3.4 degrees on its box, and 5.7 and 3.4 on the shrunk box: a pose,
-// not a size. The 86 runs of
-// the sweep's named views, whose scans are given in their models' frames, have no scaling that lays a third on where
-// ICP moved the scan a spacing.
+// not a size. The 86 runs of the sweep's named views, whose scans are given in their models' frames, have no scaling
+// that lays a third on where ICP moved the scan a spacing.
 constexpr double kAnotherSize = 1.5;
 constexpr double kHeldShare = 0.5;  // ICP on the scaled template moves the scan at most this share of ICP's move
 constexpr Index kSizeStride = 4;    // every this-many-th scan sample is asked (a scaling is a global fit)
