@@ -522,12 +522,16 @@ TEST(RibbedBox, ASparseScanFromTheFrontStillReadsItsUpFromThePlainLid) {
 
 // The same sparse scan from above, in the box's bounding box: the lid holds most of the scan's points, one long side's
 // rib tops 8% of it, and ICP slid the scan 2 cm off the box to lay its walls between the ribs on the box (F 0.627,
-// unseen-detail 0.07). Pushing a twentieth of the scan through a box that bounds it as given now marks ICP's move as
-// the relief's pull, and the scan is turned in place (correspond's pushed_through_its_bounding_template).
+// unseen-detail 0.07). Pushing a twentieth of the scan through a box that bounds it as given marked ICP's move as the
+// relief's pull, and the scan was turned in place (correspond's pushed_through_its_bounding_template; F 0.879,
+// unseen-detail 0.599). Since stop 66 the box, scaled 0.93 across its ribs' depth, lays as much of the scan in its own
+// pose on itself as ICP's slide does, and ICP on the scaled box holds it: the scan keeps its own pose (0.885 / 0.611).
+// Either way ICP's slide is not taken.
 TEST(RibbedBox, ASparseScanFromAboveIsNotSlidOffItsBoundingBox) {
   const SweepRun run = complete_from("ribbed_box", "", Eigen::Vector3d(0.25, -0.35, 1.0),
                                      {.scan_file = true, .box_drawn = Similarity{}, .resolution = 160});
-  EXPECT_TRUE(run.report["correspondence"]["turned_in_place"].get<bool>());
+  EXPECT_TRUE(run.report["correspondence"]["turned_in_place"].get<bool>() ||
+              run.report["correspondence"]["kept_input_pose"].get<bool>());
   expect_scores(run, "ribbed box, a sparse scan from above, in its bounding box", 0.85, 0.5);
 }
 
