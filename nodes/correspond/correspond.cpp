@@ -294,7 +294,8 @@ constexpr Index kSizeStride = 4;    // every this-many-th scan sample is asked (
 std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, const PointSet& source,
                                                      const KdTree& tree, double spacing, const Similarity& icp_pose,
                                                      const CorrespondOptions& o) {
-  if (!source.has_normals() || largest_displacement(exemplar.positions(), icp_pose) <= spacing) return std::nullopt;
+  const double icp_move = largest_displacement(exemplar.positions(), icp_pose);
+  if (!source.has_normals() || icp_move <= spacing) return std::nullopt;
   const Index n = (exemplar.size() + kSizeStride - 1) / kSizeStride;
   Eigen::Matrix3Xd own(3, n), moved(3, n);
   for (Index i = 0; i < n; ++i) {
@@ -312,9 +313,7 @@ std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, c
   scaled_tree.build(scaled.positions());
   double rms = 0;
   const Similarity held = rigid_icp(exemplar, scaled, scaled_tree, o, rms);
-  if (largest_displacement(exemplar.positions(), held) >
-      kHeldShare * largest_displacement(exemplar.positions(), icp_pose))
-    return std::nullopt;
+  if (largest_displacement(exemplar.positions(), held) > kHeldShare * icp_move) return std::nullopt;
   return scaling;
 }
 
