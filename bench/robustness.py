@@ -257,6 +257,29 @@ def random_views(n, seed):
     return views
 
 
+def real_and_transfer_cases():
+    """The sweep's real completions (drawn z-up and y-up), its own-scan templates and its transfers, as main's cases."""
+    cases = []
+    vaselion = os.path.join(DATA, "models", "vaselion.obj")
+    if os.path.exists(vaselion):
+        for view in VIEWS:
+            cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view, "z"))
+        for shape, file, kind in REAL_Y_UP:
+            model = os.path.join(DATA, "models", file)
+            for view in VIEWS:
+                cases.append(("completion", shape, model, kind + model, view, "y"))
+    for shape, file, up in OWN_SCAN:
+        model = file if file.startswith("procedural:") else os.path.join(DATA, "models", file)
+        if os.path.exists(model) or file.startswith("procedural:"):
+            for view in VIEWS:
+                cases.append(("completion", shape, model, "revolution:SCAN", view, up))
+    if not os.path.exists(vaselion):
+        print(f"skipping the real cases: {vaselion} is absent", file=sys.stderr)
+    for t in TRANSFERS:
+        cases.append(("transfer",) + t)
+    return cases
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build")
@@ -302,23 +325,8 @@ def main():
         for template in templates:
             for view in VIEWS:
                 cases.append(("completion", shape, model, template, view, "z"))
-    vaselion = os.path.join(DATA, "models", "vaselion.obj")
-    if os.path.exists(vaselion) and not args.held_out:
-        for view in VIEWS:
-            cases.append(("completion", "real: Vase-Lion", vaselion, "revolution:" + vaselion, view, "z"))
-        for shape, file, kind in REAL_Y_UP:
-            model = os.path.join(DATA, "models", file)
-            for view in VIEWS:
-                cases.append(("completion", shape, model, kind + model, view, "y"))
-    for shape, file, up in [] if args.held_out else OWN_SCAN:
-        model = file if file.startswith("procedural:") else os.path.join(DATA, "models", file)
-        if os.path.exists(model) or file.startswith("procedural:"):
-            for view in VIEWS:
-                cases.append(("completion", shape, model, "revolution:SCAN", view, up))
-    if not os.path.exists(vaselion):
-        print(f"skipping the real cases: {vaselion} is absent", file=sys.stderr)
-    for t in [] if args.held_out else TRANSFERS:
-        cases.append(("transfer",) + t)
+    if not args.held_out:
+        cases += real_and_transfer_cases()
     rows = []
     t_all = time.time()
     for case in cases:
