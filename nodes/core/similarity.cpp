@@ -49,6 +49,12 @@ Similarity point_to_plane_step(const Similarity& q, const Eigen::Matrix3Xd& move
   return out;
 }
 
+double largest_displacement(const Eigen::Matrix3Xd& points, const Similarity& q) {
+  double most = 0;
+  for (Index i = 0; i < points.cols(); ++i) most = std::max(most, (q.apply(points.col(i)) - points.col(i)).norm());
+  return most;
+}
+
 PointSet moved_by(const PointSet& points, const Similarity& q) {
   Eigen::Matrix3Xd p(3, points.size()), n(3, points.size());
   for (Index i = 0; i < points.size(); ++i) {

@@ -79,4 +79,7 @@ Similarity point_to_plane_step(const Similarity& q, const Eigen::Matrix3Xd& move
 // The points' positions and normals (which they must have) moved by q; no other attribute.
 PointSet moved_by(const PointSet& points, const Similarity& q);
 
+// The farthest q moves any of the points (columns); 0 for none.
+double largest_displacement(const Eigen::Matrix3Xd& points, const Similarity& q);
+
 }  // namespace scanfill

@@ -124,13 +124,6 @@ double radius_about_centroid(const Eigen::Matrix3Xd& p) {
   return (p.colwise() - p.rowwise().mean()).colwise().norm().maxCoeff();
 }
 
-// The farthest any of the points is moved by q.
-double largest_displacement(const Eigen::Matrix3Xd& p, const Similarity& q) {
-  double most = 0;
-  for (Index i = 0; i < p.cols(); ++i) most = std::max(most, (q.apply(p.col(i)) - p.col(i)).norm());
-  return most;
-}
-
 // Where q lays the exemplar's samples against the source, as shares of them:
 // - on: within half a spacing of the tangent plane of their nearest source sample (of the sample itself without
 //   normals), and within two spacings of it;
