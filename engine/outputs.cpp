@@ -179,6 +179,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"seam_gap_before", al.gap_before},
                          {"seam_gap_after", al.gap_after},
                          {"refinement_deg", syn.refinement_deg},
+                         {"pinned_by_template", syn.pinned_by_template},
                          {"refinement_shift", syn.refinement_shift},
                          {"registration_offset", json_vec(syn.registration_offset)},
                          {"second_phase_deg", syn.second_phase_deg},

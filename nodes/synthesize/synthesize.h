@@ -71,9 +71,12 @@ struct Synthesis {
   std::vector<std::int32_t> base;   // per point: the exemplar sample or target sample it came from
   std::vector<std::uint8_t> ring;   // per point: 1 when it lies on its region's extension ring
   std::vector<Patch> patches;
-  Index gap_copies = 0;                  // target samples copied because no patch reached them
-  Index filled_patches = 0;              // patches that filled holes of other regions' images (fill_holes)
-  std::vector<double> refinement_deg;    // per transform label: rotation of its refinement (0 if unrefined/unused)
+  Index gap_copies = 0;                // target samples copied because no patch reached them
+  Index filled_patches = 0;            // patches that filled holes of other regions' images (fill_holes)
+  std::vector<double> refinement_deg;  // per transform label: rotation of its refinement (0 if unrefined/unused)
+  // Per transform label: 1 where the template pins its refinement (one of the template's own symmetries, on a scan the
+  // registration barely moved; see synthesize.cpp's pinned_symmetries).
+  std::vector<std::uint8_t> pinned_by_template;
   std::vector<double> refinement_shift;  // per transform label: translation of its refinement, model units
   // The exemplar's registration offset from the template, shared by every label's image (completion only; else 0).
   Eigen::Vector3d registration_offset = Eigen::Vector3d::Zero();
