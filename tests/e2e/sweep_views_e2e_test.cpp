@@ -736,11 +736,12 @@ TEST(Pillar, SeenSquareOnASideItIsCompletedAndItsUpIsTheAxisItStandsOn) {
 PointSet knobbed_box(const Eigen::Vector3d& size, int rows, int columns, double knob) {
   PointSet box = make_box(size, 160);
   Eigen::Matrix3Xd p = box.positions();
-  const auto height = [&](double u, double v) {  // u across the side, v up it, both in [0, 1]
+  // u across a side `width` wide, v up it, both in [0, 1].
+  const auto height = [&](double u, double v, double width) {
     double h = 0;
     for (int r = 0; r < rows; ++r)
       for (int c = 0; c < columns; ++c) {
-        const double du = (u - (c + 1.0) / (columns + 1)) * size.x(), dv = (v - (r + 1.0) / (rows + 1)) * size.z();
+        const double du = (u - (c + 1.0) / (columns + 1)) * width, dv = (v - (r + 1.0) / (rows + 1)) * size.z();
         h += knob * std::exp(-(du * du + dv * dv) / (knob * knob));
       }
     return h;
@@ -750,7 +751,8 @@ PointSet knobbed_box(const Eigen::Vector3d& size, int rows, int columns, double 
     for (int axis : {0, 1}) {
       const int across = 1 - axis;
       if (std::abs(std::abs(x(axis)) - size(axis) / 2) > 1e-9) continue;
-      p(axis, i) += std::copysign(height(x(across) / size(across) + 0.5, x.z() / size.z() + 0.5), x(axis));
+      p(axis, i) +=
+          std::copysign(height(x(across) / size(across) + 0.5, x.z() / size.z() + 0.5, size(across)), x(axis));
     }
     p(2, i) += size.z() / 2;
   }
