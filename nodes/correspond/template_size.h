@@ -6,7 +6,9 @@
 // 8% narrower, seen from the front: F 0.39, under its scan alone's 0.42; in the scan's own pose, 0.98). Whether the
 // scan's own pose and ICP's differ by a pose or by a size is asked of the template scaled about its centroid: scaled,
 // it lays the scan in its own pose on itself as well as ICP's move does where the difference is a size, and cannot
-// where it is a pose (scaling moves opposite faces apart, a pose moves them together).
+// where it is a pose (scaling moves opposite faces apart, a pose moves them together). A user's box may be drawn off
+// at one end only (taller, its floor below the crate's and its top level with it): the scaling is then about that
+// other end, which stays, and moves the template's centroid, about which its own turns and flips turn.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,11 +18,14 @@
 
 namespace scanfill {
 
-// The template scaled along its principal axes about its centroid.
+// The template scaled along its principal axes about its centroid, then shifted: a point x goes to
+// centre + shift + A diag(scale) A^T (x - centre). The shift places a template drawn at another size off the scan's
+// centre as well (a box drawn taller than the crate, its floor below the crate's).
 struct TemplateScaling {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: principal axes, spread ascending
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();     // per axis
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();     // in the template's own coordinates, after the scaling
 };
 
 // The share of `points` on the source scaled by `s` (its samples in `tree`): within half a spacing of the tangent plane
@@ -29,15 +34,16 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
                        const TemplateScaling& s, double spacing);
 
 // The scaling of the source, 0.8 to 1.25 per axis in steps of 0.01 and axes of nearly equal spread (within 3%: a
-// square box's sides, a cylinder's radius) scaled alike, that lays the most of `points` on it, by coordinate descent
-// from no scaling. The source needs normals.
+// square box's sides, a cylinder's radius) scaled alike, and shifted along each axis by up to 6 spacings in half
+// spacings, that lays the most of `points` on it, by coordinate descent from no scaling: sizes first, then shifts, each
+// taken only where it lays more on. The source needs normals.
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
 // The source's samples scaled: positions about the centre, normals by the inverse transpose (still unit length).
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s);
 
-// The farthest the scaling moves any source sample.
+// The farthest the scaling moves any source sample about the centre, its shift left out (a shift is a pose).
 double largest_scaling_move(const PointSet& source, const TemplateScaling& s);
 
 }  // namespace scanfill
