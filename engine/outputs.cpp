@@ -201,7 +201,9 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
       {"laid_on_axis", m.laid_on_axis},
       {"polygon_sides", m.polygon.sides},
       {"another_size", m.another_size},
-      {"template_scale", json_vec(m.template_scale)},
+      {"template_scale", json_vec(m.template_scaling.scale)},
+      {"template_shift", json_vec(m.template_scaling.shift)},
+      {"template_scaled", m.template_scaled},
       {"matched", m.matched},
       {"exemplar_samples", m.exemplar_match.size()},
       {"deformed_rms", m.deformed_rms}};

@@ -277,17 +277,21 @@ FeaturedPtr sample_curves_stage(RunState& state, const LoadedPtr& in, const Feat
 
 namespace {
 
-// The body of revolution a low-poly polygon template draws (CorrespondResult::polygon), in the template's place from
-// the correspondence on (completion): its samples with their features estimated again, and the surface copies are
-// made of (polygon_body_surface), all on the body.
-FeaturedPtr body_in_place_of(RunState& state, const Featured& templ, const PolygonBody& body) {
+// What stands in for the template from the correspondence on (completion): the body of revolution a low-poly polygon
+// template draws (CorrespondResult::polygon), or the template scaled to a scan it is drawn at another size than
+// (template_scaled), or both. Its samples with their features estimated again, and the surface copies are made of
+// (polygon_body_surface on a body), all in place.
+FeaturedPtr stand_in_for(RunState& state, const Featured& templ, const CorrespondResult& map) {
   auto loaded = std::make_shared<Loaded>(*templ.sampled->loaded);
-  loaded->load.points = polygon_body_surface(loaded->load.points, body, templ.sampled->sample.spacing,
-                                             templ.sampled->sample.samples.size());
+  PointSet& surface = loaded->load.points;
+  if (map.polygon.sides > 0)
+    surface =
+        polygon_body_surface(surface, map.polygon, templ.sampled->sample.spacing, templ.sampled->sample.samples.size());
+  if (map.template_scaled) surface = scaled_source(surface, map.template_scaling);
   loaded->box = input_bounds(loaded->load);
   auto sampled = std::make_shared<Sampled>(*templ.sampled);
   sampled->loaded = std::move(loaded);
-  sampled->sample.samples = on_polygon_body(templ.sampled->sample.samples, body);
+  sampled->sample.samples = template_in_place(templ.sampled->sample.samples, map);
   FeaturesResult features = estimate_features(sampled->sample.samples, state.config.features);
   for (const auto& w : features.warnings) state.warn("features:template", w);
   return std::make_shared<const Featured>(Featured{std::move(sampled), std::move(features)});
@@ -302,10 +306,10 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
     c->source = source;
     const PointSet& E = exemplar->features.points;
     CorrespondOptions options = state.config.correspond;
-    options.polygon_body = state.config.mode == RunMode::kCompletion;
+    options.polygon_body = options.scaled_template = state.config.mode == RunMode::kCompletion;
     c->map = correspond(E, source->features.points, source->sampled->sample.spacing, options, progress);
     for (const auto& w : c->map.warnings) state.warn("correspond", w);
-    if (c->map.polygon.sides > 0) c->source = body_in_place_of(state, *source, c->map.polygon);
+    if (c->map.polygon.sides > 0 || c->map.template_scaled) c->source = stand_in_for(state, *source, c->map);
     node_logger("correspond")
         ->info(
             "rigid registration: {:.3g} deg, shift {:.4g}, RMS {:.4g}{}{}; {} of {} exemplar samples matched, RMS "
@@ -315,7 +319,9 @@ CorrespondencePtr correspond_stage(RunState& state, const FeaturedPtr& exemplar,
                                                    "{} sides, which stands in for it from here on",
                                                    c->map.polygon.sides)
                                      : std::string(),
-            c->map.another_size      ? " (ICP's, not taken: the template is drawn at another size than the scan)"
+            c->map.template_scaled   ? " (ICP's, not taken: the template is drawn at another size than the scan, and "
+                                       "scaled to it stands in for it from here on)"
+            : c->map.another_size    ? " (ICP's, not taken: the template is drawn at another size than the scan)"
             : c->map.kept_input_pose ? " (ICP's, not taken: the scan's relief pulled it off the template)"
             : c->map.turned_in_place ? " (ICP's turn about the template's centroid: the scan's relief pulled its move)"
             : c->map.laid_on_axis    ? " (the scan's own axis of revolution laid on the template's)"

@@ -33,6 +33,7 @@
 #include "nodes/core/progress.h"
 #include "nodes/core/similarity.h"
 #include "nodes/core/solver_summary.h"
+#include "nodes/correspond/template_size.h"
 
 namespace scanfill {
 
@@ -93,6 +94,8 @@ struct CorrespondOptions {
   LandmarkFiles landmarks_file;  // more landmarks, by name from two .pp files (empty paths: none)
   bool polygon_body = true;  // a polygon template may stand for the body through its corners (PolygonBody): completion
                              // only, where every later node takes the body (set by the engine, no key)
+  bool scaled_template = true;  // a template drawn at another size may stand scaled for itself (template_scaled):
+                                // completion only, as polygon_body (set by the engine, no key)
 };
 
 struct CorrespondResult {
@@ -109,11 +112,14 @@ struct CorrespondResult {
   bool turned_in_place = false;               // rigid is ICP's turn about the source's centroid: the relief pulled
                                               // ICP's move
   bool laid_on_axis = false;                  // rigid lays the scan's own axis of revolution on the source's
-  // The template looks drawn at another size than the scan (template_size.h): scaled by template_scale along its
-  // principal axes (spread ascending) about its centroid, it lays at least as much of the scan in its own pose on
-  // itself as ICP's move does, so the scan keeps its own pose (kept_input_pose too); the template is not scaled.
+  // The template looks drawn at another size than the scan (template_size.h): scaled by template_scaling along its
+  // principal axes (spread ascending) about its centroid and shifted, it lays as much of the scan in its own pose on
+  // itself as ICP's move does, so the scan keeps its own pose (kept_input_pose too). In completion
+  // (CorrespondOptions::scaled_template), the template so scaled stands in for it (template_scaled): the scan is
+  // deformed onto it, and every later node takes it (scaled_source).
   bool another_size = false;
-  Eigen::Vector3d template_scale = Eigen::Vector3d::Ones();
+  TemplateScaling template_scaling;
+  bool template_scaled = false;
   PolygonBody polygon;      // sides > 0: the source is a regular polygon, and the scan is registered
                             // and deformed onto on_polygon_body(source), which stands in for it
   double deformed_rms = 0;  // RMS distance of the matched pairs after deformation
@@ -132,6 +138,10 @@ void check_shared_scale(const std::string& name_a, const PointSet& a, const std:
 // Names found in only one file are listed in `unpaired`. Throws IoError naming a file that cannot be read, and
 // InputError when no name is in both.
 std::vector<Landmark> landmarks_by_name(const LandmarkFiles& files, std::vector<std::string>& unpaired);
+
+// The template's points (samples or surface) where something stands in for the template from the correspondence on:
+// on the polygon's body (CorrespondResult::polygon), then scaled (template_scaled); as they are otherwise.
+PointSet template_in_place(const PointSet& points, const CorrespondResult& r);
 
 // exemplar and source: samples with normals, at the same spacing alpha.
 CorrespondResult correspond(const PointSet& exemplar, const PointSet& source, double spacing,

@@ -104,7 +104,7 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
   EXPECT_TRUE(r.another_size);
   EXPECT_TRUE(r.kept_input_pose);
   EXPECT_EQ(r.rigid.translation.norm(), 0.0);
-  const std::vector<double> scale(r.template_scale.data(), r.template_scale.data() + 3);
+  const std::vector<double> scale(r.template_scaling.scale.data(), r.template_scaling.scale.data() + 3);
   EXPECT_EQ(std::count_if(scale.begin(), scale.end(), [](double s) { return s >= 1.06 && s <= 1.11; }), 2);
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings.back().find("drawn at another size"), std::string::npos) << r.warnings.back();
@@ -115,6 +115,39 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
                                             estimate_features(own.samples, {}).points, own.spacing, o);
   EXPECT_FALSE(moved.another_size);
   EXPECT_LT(moved.rigid.compose(motion).translation.norm(), own.spacing);
+}
+
+// The same box seen from below, in a template drawn 10% wider and 5% taller, its floor 4.5 cm below the box's (its top
+// level with the box's): scaled about its centroid, the template lays the box's floor or its sides' tops on itself,
+// not both, and less of the scan than ICP, which moved the scan onto the template's floor and the sides it sees. Scaled
+// about its top and shifted, it lays the floor and the sides on itself, and stands scaled for the template: its floor
+// on the box's, its sides on the box's, and its top, which the scan does not see, where it is drawn.
+TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
+  const Eigen::Vector3d centre(0, 0, 0.45);
+  const PointSet box = make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.9), centre);
+  const PointSet scan = virtual_scan(box, test::sweep_camera(box, Eigen::Vector3d(0.35, -0.25, -1.0))).points;
+  const SampleResult wide =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
+  const double alpha = wide.spacing;
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  const CorrespondResult r = correspond(featured(scan, alpha), estimate_features(wide.samples, {}).points, alpha, o);
+  EXPECT_TRUE(r.another_size);
+  EXPECT_TRUE(r.template_scaled);
+  EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+  const Eigen::Matrix3Xd placed = template_in_place(wide.samples, r).positions();
+  const Eigen::Vector3d low = placed.rowwise().minCoeff(), high = placed.rowwise().maxCoeff();
+  EXPECT_NEAR(low.z(), 0.0, alpha) << "the floor on the box's";
+  EXPECT_NEAR(high.z(), 0.9, alpha) << "the top, unseen, where it is drawn";
+  for (int axis : {0, 1}) {
+    EXPECT_NEAR(low(axis), -0.3, alpha);
+    EXPECT_NEAR(high(axis), 0.3, alpha);
+  }
+  o.scaled_template = false;
+  const CorrespondResult kept = correspond(featured(scan, alpha), estimate_features(wide.samples, {}).points, alpha, o);
+  EXPECT_TRUE(kept.another_size);
+  EXPECT_FALSE(kept.template_scaled) << "a transfer's template is not scaled";
+  EXPECT_EQ(template_in_place(wide.samples, kept).positions(), wide.samples.positions());
 }
 
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
