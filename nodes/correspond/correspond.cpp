@@ -270,7 +270,7 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 }
 
 // A template drawn at another size than the scan (template_size.h): ICP moved the scan over a spacing; the template
-// scaled (about its centroid or an end, and shifted) lays as much of the scan in its own pose on itself as ICP's pose
+// scaled (about its centroid, or an end that stays) lays as much of the scan in its own pose on itself as ICP's pose
 // lays on it unscaled (within kAsMuchOn), a third of the scan at least (kGrounded), with the scaling moving some of
 // the template kAnotherSize spacings; and ICP on the scaled template moves the scan at most half as far as ICP's move
 // (kHeldShare; it may slide the scan along a face it sees, as relief pulls it). A studded box in a box 8% narrower: ICP

@@ -19,8 +19,8 @@
 namespace scanfill {
 
 // The template scaled along its principal axes about its centroid, then shifted: a point x goes to
-// centre + shift + A diag(scale) A^T (x - centre). The shift places a template drawn at another size off the scan's
-// centre as well (a box drawn taller than the crate, its floor below the crate's).
+// centre + shift + A diag(scale) A^T (x - centre). The shift is that of a scaling about an end of the template, which
+// stays (a box drawn taller than the crate, its top level with the crate's and its floor below it).
 struct TemplateScaling {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: principal axes, spread ascending
@@ -34,9 +34,12 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
                        const TemplateScaling& s, double spacing);
 
 // The scaling of the source, 0.8 to 1.25 per axis in steps of 0.01 and axes of nearly equal spread (within 3%: a
-// square box's sides, a cylinder's radius) scaled alike, and shifted along each axis by up to 6 spacings in half
-// spacings, that lays the most of `points` on it, by coordinate descent from no scaling: sizes first, then shifts, each
-// taken only where it lays more on. The source needs normals.
+// square box's sides, a cylinder's radius) scaled alike, that lays the most of `points` on it, by coordinate descent
+// from no scaling. An axis of its own is scaled about the centroid or about either end (which stays: the shift), axes
+// scaled alike about the centroid only. A step is taken only where it lays a hundredth more of the points on, and of
+// steps laying as much on, the one moving the template's ends least. No free shift is tried: a scan that sees one face
+// along an axis lies on it as well shifted as scaled, and a shift is a pose, which the registration fits. The source
+// needs normals.
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
