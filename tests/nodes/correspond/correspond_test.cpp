@@ -87,20 +87,32 @@ TEST(Correspond, KeepsAScansOwnPoseWhereItsReliefWouldPullItOffTheTemplate) {
   EXPECT_LT(rotation_angle(moved.rigid.compose(motion).rotation) * 180 / M_PI, 0.5);
 }
 
+// `scan` registered on the template samples `t` (their features estimated) rigidly only, without deformation rounds;
+// `scaled_template` as the engine sets it (completion).
+CorrespondResult registered_rigidly(const PointSet& scan, const SampleResult& t, bool scaled_template = true) {
+  CorrespondOptions o;
+  o.outer_iterations = 0;
+  o.scaled_template = scaled_template;
+  return correspond(featured(scan, t.spacing), estimate_features(t.samples, {}).points, t.spacing, o);
+}
+
+// A plain 0.6 x 0.6 x 0.9 box standing on z = 0, and its scan along `view` as the sweep sees it.
+const Eigen::Vector3d kPlainBoxSize(0.6, 0.6, 0.9), kPlainBoxCentre(0, 0, 0.45);
+PointSet plain_box_scanned_along(const Eigen::Vector3d& view) {
+  const PointSet box = make_lowpoly_box(kPlainBoxSize, kPlainBoxCentre);
+  return virtual_scan(box, test::sweep_camera(box, view)).points;
+}
+
 // A box seen from above and in front, in a template drawn 8% narrower than it: ICP lays the scan on the template's
 // faces it sees, moving it some spacings (every turned image then lands that far off the unseen faces; a studded box
 // so: F 0.73, 0.98 in its own pose). Scaled 1.09 across, the template lays more of the scan in its own pose on itself
 // than ICP's move lays on it unscaled: a size, not a pose, and the scan keeps its own pose. The same scan moved 3 cm
 // off a box of its own size is registered by ICP.
 TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
-  const Eigen::Vector3d centre(0, 0, 0.45);
-  const PointSet box = make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.9), centre);
-  const PointSet scan = virtual_scan(box, test::sweep_camera(box, Eigen::Vector3d(0.25, -0.35, 1.0))).points;
-  const SampleResult narrow = sample(make_lowpoly_box(Eigen::Vector3d(0.552, 0.552, 0.9), centre), {.count = 20000});
-  const double alpha = narrow.spacing;
-  CorrespondOptions o;
-  o.outer_iterations = 0;
-  const CorrespondResult r = correspond(featured(scan, alpha), estimate_features(narrow.samples, {}).points, alpha, o);
+  const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.25, -0.35, 1.0));
+  const SampleResult narrow =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.552, 0.552, 0.9), kPlainBoxCentre), {.count = 20000});
+  const CorrespondResult r = registered_rigidly(scan, narrow);
   EXPECT_TRUE(r.another_size);
   EXPECT_TRUE(r.kept_input_pose);
   EXPECT_EQ(r.rigid.translation.norm(), 0.0);
@@ -109,10 +121,9 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings.back().find("drawn at another size"), std::string::npos) << r.warnings.back();
 
-  const SampleResult own = sample(box, {.count = 20000});
+  const SampleResult own = sample(make_lowpoly_box(kPlainBoxSize, kPlainBoxCentre), {.count = 20000});
   const Similarity motion{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.03, 0.02, 0), 1.0};
-  const CorrespondResult moved = correspond(featured(transformed(scan, motion), own.spacing),
-                                            estimate_features(own.samples, {}).points, own.spacing, o);
+  const CorrespondResult moved = registered_rigidly(transformed(scan, motion), own);
   EXPECT_FALSE(moved.another_size);
   EXPECT_LT(moved.rigid.compose(motion).translation.norm(), own.spacing);
 }
@@ -123,15 +134,11 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
 // about its top and shifted, it lays the floor and the sides on itself, and stands scaled for the template: its floor
 // on the box's, its sides on the box's, and its top, which the scan does not see, where it is drawn.
 TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
-  const Eigen::Vector3d centre(0, 0, 0.45);
-  const PointSet box = make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.9), centre);
-  const PointSet scan = virtual_scan(box, test::sweep_camera(box, Eigen::Vector3d(0.35, -0.25, -1.0))).points;
+  const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.35, -0.25, -1.0));
   const SampleResult wide =
       sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
   const double alpha = wide.spacing;
-  CorrespondOptions o;
-  o.outer_iterations = 0;
-  const CorrespondResult r = correspond(featured(scan, alpha), estimate_features(wide.samples, {}).points, alpha, o);
+  const CorrespondResult r = registered_rigidly(scan, wide);
   EXPECT_TRUE(r.another_size);
   EXPECT_TRUE(r.template_scaled);
   EXPECT_EQ(r.rigid.translation.norm(), 0.0);
@@ -143,8 +150,7 @@ TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
     EXPECT_NEAR(low(axis), -0.3, alpha);
     EXPECT_NEAR(high(axis), 0.3, alpha);
   }
-  o.scaled_template = false;
-  const CorrespondResult kept = correspond(featured(scan, alpha), estimate_features(wide.samples, {}).points, alpha, o);
+  const CorrespondResult kept = registered_rigidly(scan, wide, false);
   EXPECT_TRUE(kept.another_size);
   EXPECT_FALSE(kept.template_scaled) << "a transfer's template is not scaled";
   EXPECT_EQ(template_in_place(wide.samples, kept).positions(), wide.samples.positions());
@@ -158,10 +164,7 @@ CorrespondResult register_ribbed_box(const Eigen::Vector3d& direction, const Poi
   ScanOptions view;
   view.target = (low + high) / 2;
   view.eye = view.target + 2.6 * (high - low).norm() * direction.normalized();
-  CorrespondOptions o;
-  o.outer_iterations = 0;
-  return correspond(featured(virtual_scan(ribbed, view).points, t.spacing), estimate_features(t.samples, {}).points,
-                    t.spacing, o);
+  return registered_rigidly(virtual_scan(ribbed, view).points, t);
 }
 
 // The ribbed box seen from above, inside the box that bounds it (a `box:` template, touching its ribs' tops): the two
