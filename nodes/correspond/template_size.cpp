@@ -14,6 +14,10 @@ constexpr double kSmallest = 0.80, kLargest = 1.25, kStep = 0.01;
 constexpr double kEqualSpread = 0.03;
 constexpr int kPasses = 2;
 constexpr double kClearlyMore = 0.01;  // share of the points
+constexpr double kAsMuchOn = 0.01;     // share of the points laid on "as much" by a trim
+constexpr double kClearlyLess = 0.01;  // share of the facing template left uncovered
+constexpr double kFacing = 0.1;        // cosine between a template normal and the direction towards the sensor
+constexpr Index kTrimStride = 4;       // every this-many-th template sample is asked whether it is uncovered
 
 Eigen::Matrix3d scaling_matrix(const TemplateScaling& s, bool inverse) {
   const Eigen::Vector3d d = inverse ? Eigen::Vector3d(s.scale.cwiseInverse()) : s.scale;
@@ -74,6 +78,36 @@ double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eig
   return sum;
 }
 
+// Each group's trials from `s`: its axes scaled 0.80 to 1.25 in steps of 0.01 about each of its pivots.
+std::vector<TemplateScaling> trials_of(const TemplateScaling& s, const std::vector<int>& group,
+                                       const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  const int steps = int(std::lround((kLargest - kSmallest) / kStep));
+  std::vector<TemplateScaling> trials;
+  for (const Eigen::Vector3d& pivot : pivots_of(group, low, high))
+    for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(s, group, kSmallest + k * kStep, pivot));
+  return trials;
+}
+
+// The share of the source's samples (every kTrimStride-th) that `s` lays facing the sensor with no scan point (`seen`:
+// their tree) within two spacings.
+double uncovered_facing(const KdTree& seen, const Eigen::Vector3d& towards_sensor, const PointSet& source,
+                        const TemplateScaling& s, double spacing) {
+  const Eigen::Matrix3d forward = scaling_matrix(s, false), back = scaling_matrix(s, true);
+  const Index n = (source.size() + kTrimStride - 1) / kTrimStride;
+  std::vector<std::uint8_t> facing(size_t(n), 0), uncovered(size_t(n), 0);
+  tbb::parallel_for(Index(0), n, [&](Index i) {
+    const Index j = i * kTrimStride;
+    if ((back * source.normals().col(j)).normalized().dot(towards_sensor) <= kFacing) return;
+    facing[size_t(i)] = 1;
+    std::int32_t k;
+    double d2;
+    seen.knn(s.centre + s.shift + forward * (source.positions().col(j) - s.centre), 1, &k, &d2);
+    uncovered[size_t(i)] = d2 > 4 * spacing * spacing;
+  });
+  const auto count = [](const std::vector<std::uint8_t>& v) { return double(std::count(v.begin(), v.end(), 1)); };
+  return count(uncovered) / std::max(1.0, count(facing));
+}
+
 }  // namespace
 
 double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
@@ -118,17 +152,38 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
     share = on[taken];
     best = trials[taken];
   };
-  const int steps = int(std::lround((kLargest - kSmallest) / kStep));
-  std::vector<TemplateScaling> trials;
-  for (int pass = 0; pass < kPasses; ++pass) {
-    for (const std::vector<int>& g : groups) {
-      trials.clear();
-      for (const Eigen::Vector3d& pivot : pivots_of(g, low, high))
-        for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(best, g, kSmallest + k * kStep, pivot));
-      take_most_on(trials);
-    }
-  }
+  for (int pass = 0; pass < kPasses; ++pass)
+    for (const std::vector<int>& g : groups) take_most_on(trials_of(best, g, low, high));
   return best;
+}
+
+TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
+                                    const PointSet& source, const KdTree& tree, double spacing, TemplateScaling s) {
+  std::vector<std::vector<int>> groups;
+  principal_axes(source, groups);
+  const Eigen::Matrix3Xd along = s.axes.transpose() * (source.positions().colwise() - s.centre);
+  const Eigen::Vector3d low = along.rowwise().minCoeff(), high = along.rowwise().maxCoeff();
+  KdTree seen;
+  seen.build(points);
+  const double share = share_on_scaled(points, source, tree, s, spacing);
+  double uncovered = uncovered_facing(seen, towards_sensor, source, s, spacing);
+  for (const std::vector<int>& g : groups) {
+    const std::vector<TemplateScaling> trials = trials_of(s, g, low, high);
+    std::vector<double> left(trials.size(), uncovered);
+    for (size_t t = 0; t < trials.size(); ++t)
+      if (share_on_scaled(points, source, tree, trials[t], spacing) >= share - kAsMuchOn)
+        left[t] = uncovered_facing(seen, towards_sensor, source, trials[t], spacing);
+    const double least = *std::min_element(left.begin(), left.end());
+    if (least > uncovered - kClearlyLess) continue;
+    size_t taken = trials.size();
+    for (size_t t = 0; t < trials.size(); ++t)
+      if (left[t] <= least + 0.1 * kClearlyLess &&
+          (taken == trials.size() || end_moves(trials[t], low, high) < end_moves(trials[taken], low, high)))
+        taken = t;
+    s = trials[taken];
+    uncovered = left[taken];
+  }
+  return s;
 }
 
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s) {

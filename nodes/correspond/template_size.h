@@ -43,6 +43,18 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
+// `s` refined so that the template leaves the least of its surface facing the sensor without the scan on it, where that
+// lays as many of `points` on it (within a hundredth): per group of axes, the trials of scaling_that_fits (scales and
+// pivots) from `s`, taken where they uncover a hundredth less of the facing template; of those uncovering nearly the
+// least, the one moving the template's ends least. The sensor lies along
+// `towards_sensor` (the scan's mean normal: a scan's points are dense in proportion to the area it sees square on). A
+// convex template sees what faces the sensor, so a template end drawn beyond the scan's own end there is no surface
+// the scan saw: a box drawn taller than the crate, its floor below the crate's, seen from above (the scan's sides end
+// at the crate's floor, the template's run on below it). An end that faces away, or a scan that ends where the
+// template does, leaves `s` as it is. Needs the source's normals.
+TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
+                                    const PointSet& source, const KdTree& tree, double spacing, TemplateScaling s);
+
 // The source's samples scaled: positions about the centre, normals by the inverse transpose (still unit length).
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s);
 
