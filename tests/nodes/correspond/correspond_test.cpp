@@ -156,6 +156,27 @@ TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
   EXPECT_EQ(template_in_place(wide.samples, kept).positions(), wide.samples.positions());
 }
 
+// The same box and template seen from above: the scan does not see the box's floor, but its sides end there, and the
+// template's sides, which face the sensor as the box's do, run on 4.5 cm below it. Trimmed to what the scan saw, the
+// template stands scaled about its top: its floor on the box's, its sides on the box's.
+TEST(Correspond, TrimsATemplateDrawnAtAnotherSizeToTheFloorItsScanEndsAt) {
+  const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.25, -0.35, 1.0));
+  const SampleResult wide =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
+  const double alpha = wide.spacing;
+  const CorrespondResult r = registered_rigidly(scan, wide);
+  EXPECT_TRUE(r.another_size);
+  EXPECT_TRUE(r.template_scaled);
+  const Eigen::Matrix3Xd placed = template_in_place(wide.samples, r).positions();
+  const Eigen::Vector3d low = placed.rowwise().minCoeff(), high = placed.rowwise().maxCoeff();
+  EXPECT_NEAR(low.z(), 0.0, alpha) << "the floor, unseen, where the scan's sides end";
+  EXPECT_NEAR(high.z(), 0.9, alpha);
+  for (int axis : {0, 1}) {
+    EXPECT_NEAR(low(axis), -0.3, alpha);
+    EXPECT_NEAR(high(axis), 0.3, alpha);
+  }
+}
+
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
 CorrespondResult register_ribbed_box(const Eigen::Vector3d& direction, const PointSet& box) {
   const PointSet ribbed = make_ribbed_box();
