@@ -8,7 +8,8 @@
 // it lays the scan in its own pose on itself as well as ICP's move does where the difference is a size, and cannot
 // where it is a pose (scaling moves opposite faces apart, a pose moves them together). A user's box may be drawn off
 // at one end only (taller, its floor below the crate's and its top level with it): the scaling is then about that
-// other end, which stays, and moves the template's centroid, about which its own turns and flips turn.
+// other end, which stays, and moves the template's centroid, about which its own turns and flips turn. Where the scan
+// does not see that end, the scan's faces still end at it, and the template is trimmed to them.
 #pragma once
 
 #include <Eigen/Core>
@@ -43,10 +44,10 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
-// `s` refined so that the template leaves the least of its surface facing the sensor without the scan on it, where that
-// lays as many of `points` on it (within a hundredth): per group of axes, the trials of scaling_that_fits (scales and
-// pivots) from `s`, taken where they uncover a hundredth less of the facing template; of those uncovering nearly the
-// least, the one moving the template's ends least. The sensor lies along
+// `s` refined so that the template fits the scan both ways: the least of its surface facing the sensor left without
+// the scan on it, plus the least of `points` left off it, where that lays as many of them on (within a hundredth). Per
+// group of axes, the trials of scaling_that_fits (scales and pivots) from `s`, taken where that misfit falls by a
+// hundredth; of those at nearly the least, the one moving the template's ends least. The sensor lies along
 // `towards_sensor` (the scan's mean normal: a scan's points are dense in proportion to the area it sees square on). A
 // convex template sees what faces the sensor, so a template end drawn beyond the scan's own end there is no surface
 // the scan saw: a box drawn taller than the crate, its floor below the crate's, seen from above (the scan's sides end
