@@ -15,7 +15,7 @@ constexpr double kEqualSpread = 0.03;
 constexpr int kPasses = 2;
 constexpr double kClearlyMore = 0.01;  // share of the points
 constexpr double kAsMuchOn = 0.01;     // share of the points laid on "as much" by a trim
-constexpr double kClearlyLess = 0.01;  // share of the facing template left uncovered
+constexpr double kClearlyLess = 0.01;  // how far a trim must lower the misfit (uncovered facing share + share off)
 constexpr double kFacing = 0.1;        // cosine between a template normal and the direction towards the sensor
 
 Eigen::Matrix3d scaling_matrix(const TemplateScaling& s, bool inverse) {
