@@ -66,6 +66,14 @@ std::vector<Eigen::Vector3d> pivots_of(const std::vector<int>& group, const Eige
   return {Eigen::Vector3d::Zero(), low, high};
 }
 
+// The template's ends along the axes of `s`: the lowest and highest principal coordinates of its samples about the
+// centre of `s`.
+void ends_along_axes(const PointSet& source, const TemplateScaling& s, Eigen::Vector3d& low, Eigen::Vector3d& high) {
+  const Eigen::Matrix3Xd along = s.axes.transpose() * (source.positions().colwise() - s.centre);
+  low = along.rowwise().minCoeff();
+  high = along.rowwise().maxCoeff();
+}
+
 // How far the scaling moves the template's ends along its axes (`low`, `high`: principal coordinates about its
 // centroid), summed over both ends of every axis.
 double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
@@ -129,8 +137,8 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
                                   double spacing, double& share) {
   std::vector<std::vector<int>> groups;
   TemplateScaling best = principal_axes(source, groups);
-  const Eigen::Matrix3Xd along = best.axes.transpose() * (source.positions().colwise() - best.centre);
-  const Eigen::Vector3d low = along.rowwise().minCoeff(), high = along.rowwise().maxCoeff();
+  Eigen::Vector3d low, high;
+  ends_along_axes(source, best, low, high);
   share = share_on_scaled(points, source, tree, best, spacing);
   // The trials of one group all start from the scaling before them. Of those laying as much on as the best of them
   // (within kClearlyMore), the one moving the template's ends least is taken, where it lays kClearlyMore more on than
@@ -159,8 +167,8 @@ TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen:
                                     const PointSet& source, const KdTree& tree, double spacing, TemplateScaling s) {
   std::vector<std::vector<int>> groups;
   principal_axes(source, groups);
-  const Eigen::Matrix3Xd along = s.axes.transpose() * (source.positions().colwise() - s.centre);
-  const Eigen::Vector3d low = along.rowwise().minCoeff(), high = along.rowwise().maxCoeff();
+  Eigen::Vector3d low, high;
+  ends_along_axes(source, s, low, high);
   KdTree seen;
   seen.build(points);
   // The misfit both ways: the facing template the scan leaves uncovered, and the scan the template leaves off itself.
