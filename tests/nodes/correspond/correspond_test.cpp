@@ -133,23 +133,33 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
 // not both, and less of the scan than ICP, which moved the scan onto the template's floor and the sides it sees. Scaled
 // about its top and shifted, it lays the floor and the sides on itself, and stands scaled for the template: its floor
 // on the box's, its sides on the box's, and its top, which the scan does not see, where it is drawn.
-TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
-  const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.35, -0.25, -1.0));
-  const SampleResult wide =
-      sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
-  const double alpha = wide.spacing;
-  const CorrespondResult r = registered_rigidly(scan, wide);
-  EXPECT_TRUE(r.another_size);
-  EXPECT_TRUE(r.template_scaled);
-  EXPECT_EQ(r.rigid.translation.norm(), 0.0);
-  const Eigen::Matrix3Xd placed = template_in_place(wide.samples, r).positions();
+// The plain box's template drawn 10% wider and 5% taller, its floor 4.5 cm below the box's and its top level with it.
+SampleResult larger_lower_box() {
+  return sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
+}
+
+// Expects the template `r` places (its samples `t`) to span the plain box: floor, top and sides within an alpha.
+void expect_standing_on_the_plain_box(const SampleResult& t, const CorrespondResult& r, const char* floor,
+                                      const char* top) {
+  const double alpha = t.spacing;
+  const Eigen::Matrix3Xd placed = template_in_place(t.samples, r).positions();
   const Eigen::Vector3d low = placed.rowwise().minCoeff(), high = placed.rowwise().maxCoeff();
-  EXPECT_NEAR(low.z(), 0.0, alpha) << "the floor on the box's";
-  EXPECT_NEAR(high.z(), 0.9, alpha) << "the top, unseen, where it is drawn";
+  EXPECT_NEAR(low.z(), 0.0, alpha) << floor;
+  EXPECT_NEAR(high.z(), 0.9, alpha) << top;
   for (int axis : {0, 1}) {
     EXPECT_NEAR(low(axis), -0.3, alpha);
     EXPECT_NEAR(high(axis), 0.3, alpha);
   }
+}
+
+TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
+  const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.35, -0.25, -1.0));
+  const SampleResult wide = larger_lower_box();
+  const CorrespondResult r = registered_rigidly(scan, wide);
+  EXPECT_TRUE(r.another_size);
+  EXPECT_TRUE(r.template_scaled);
+  EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+  expect_standing_on_the_plain_box(wide, r, "the floor on the box's", "the top, unseen, where it is drawn");
   const CorrespondResult kept = registered_rigidly(scan, wide, false);
   EXPECT_TRUE(kept.another_size);
   EXPECT_FALSE(kept.template_scaled) << "a transfer's template is not scaled";
@@ -161,20 +171,11 @@ TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
 // template stands scaled about its top: its floor on the box's, its sides on the box's.
 TEST(Correspond, TrimsATemplateDrawnAtAnotherSizeToTheFloorItsScanEndsAt) {
   const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.25, -0.35, 1.0));
-  const SampleResult wide =
-      sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
-  const double alpha = wide.spacing;
+  const SampleResult wide = larger_lower_box();
   const CorrespondResult r = registered_rigidly(scan, wide);
   EXPECT_TRUE(r.another_size);
   EXPECT_TRUE(r.template_scaled);
-  const Eigen::Matrix3Xd placed = template_in_place(wide.samples, r).positions();
-  const Eigen::Vector3d low = placed.rowwise().minCoeff(), high = placed.rowwise().maxCoeff();
-  EXPECT_NEAR(low.z(), 0.0, alpha) << "the floor, unseen, where the scan's sides end";
-  EXPECT_NEAR(high.z(), 0.9, alpha);
-  for (int axis : {0, 1}) {
-    EXPECT_NEAR(low(axis), -0.3, alpha);
-    EXPECT_NEAR(high(axis), 0.3, alpha);
-  }
+  expect_standing_on_the_plain_box(wide, r, "the floor, unseen, where the scan's sides end", "the top");
 }
 
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
