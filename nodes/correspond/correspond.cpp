@@ -286,7 +286,13 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 // move was 5.9. Seen from above, that box's floor is unseen and scaling lays no more of the scan on where it moves it;
 // but the scan's sides end at the box's floor, and a size once told is trimmed to what the scan saw
 // (trimmed_to_the_seen): scaled 0.95 about its top, the template's floor lands on the box's (seed 6969's eyes 12-67
-// degrees above level: F 0.738-0.902 -> 0.977-0.997).
+// degrees above level: F 0.738-0.902 -> 0.977-0.997). A template drawn too short at one end (a box 8% shorter
+// standing on the studded box's floor) lays the scan's faces on its own, so ICP moves the scan under a spacing (or
+// only as its relief pulls it, and the scan keeps its own pose), and the scan runs 7 cm on past the template's top:
+// where ICP moved the scan under a spacing, the size is told only for a scaling that moves one of the template's six
+// ends over kAnotherSize spacings, and ICP on the scaled template may move the scan half a spacing. The box from the
+// front: 1.09 up about its floor (F 0.879 -> 0.992). A plain disk under a gear's teeth, scaled 1.06 across onto
+// their tips, moves four ends: not a size.
 constexpr double kAnotherSize = 1.5;
 constexpr double kAsMuchOn = 0.01;  // of the scan: laid on "as much" within a hundredth
 constexpr double kHeldShare = 0.5;  // ICP on the scaled template moves the scan at most this share of ICP's move
@@ -308,7 +314,7 @@ std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, c
                                                      const KdTree& tree, double spacing, const Similarity& icp_pose,
                                                      const CorrespondOptions& o) {
   const double icp_move = largest_displacement(exemplar.positions(), icp_pose);
-  if (!source.has_normals() || icp_move <= spacing) return std::nullopt;
+  if (!source.has_normals()) return std::nullopt;
   const Index n = (exemplar.size() + kSizeStride - 1) / kSizeStride;
   Eigen::Matrix3Xd own(3, n), moved(3, n);
   for (Index i = 0; i < n; ++i) {
@@ -321,12 +327,13 @@ std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, c
   if (scaled_on < kGrounded || scaled_on < registered_on - kAsMuchOn ||
       largest_scaling_move(source, scaling) < kAnotherSize * spacing)
     return std::nullopt;
+  if (icp_move <= spacing && ends_moved_beyond(source, scaling, kAnotherSize * spacing) != 1) return std::nullopt;
   const PointSet scaled = scaled_source(source, scaling);
   KdTree scaled_tree;
   scaled_tree.build(scaled.positions());
   double rms = 0;
   const Similarity held = rigid_icp(exemplar, scaled, scaled_tree, o, rms);
-  if (largest_displacement(exemplar.positions(), held) > kHeldShare * icp_move) return std::nullopt;
+  if (largest_displacement(exemplar.positions(), held) > kHeldShare * std::max(icp_move, spacing)) return std::nullopt;
   const auto sensor = towards_sensor(exemplar);
   return sensor ? trimmed_to_the_seen(own, *sensor, source, tree, spacing, scaling) : scaling;
 }
@@ -643,6 +650,11 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
       (round &&
        pulled_by_relief_about_a_round_template(exemplar, source, tree, spacing, as_given, icp_pose, registered))) {
     r.kept_input_pose = true;
+    // In its own pose, the scan may still run on past an end of a template drawn too short.
+    if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, Similarity{}, o)) {
+      r.another_size = true;
+      r.template_scaling = *scaling;
+    }
     return Similarity{};
   }
   if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, icp_pose, o)) {

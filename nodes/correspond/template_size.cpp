@@ -4,7 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace scanfill {
@@ -16,6 +18,7 @@ constexpr int kPasses = 2;
 constexpr double kClearlyMore = 0.01;  // share of the points
 constexpr double kAsMuchOn = 0.01;     // share of the points laid on "as much" by a trim
 constexpr double kClearlyLess = 0.01;  // how far a trim must lower the misfit (uncovered facing share + share off)
+constexpr double kPastNoise = 0.001;   // share of the points: as few past the template's ends
 constexpr double kFacing = 0.1;        // cosine between a template normal and the direction towards the sensor
 
 Eigen::Matrix3d scaling_matrix(const TemplateScaling& s, bool inverse) {
@@ -74,14 +77,23 @@ void ends_along_axes(const PointSet& source, const TemplateScaling& s, Eigen::Ve
   high = along.rowwise().maxCoeff();
 }
 
-// How far the scaling moves the template's ends along its axes (`low`, `high`: principal coordinates about its
-// centroid), summed over both ends of every axis.
-double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
-  double sum = 0;
+// How far the scaling moves each of the template's six ends along its axes (`low`, `high`: principal coordinates about
+// its centroid): the low and high end of the first axis, then of the second and the third.
+std::array<double, 6> moves_of_ends(const TemplateScaling& s, const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  std::array<double, 6> moves{};
   for (int k = 0; k < 3; ++k) {
     const double along = s.axes.col(k).dot(s.shift);
-    sum += std::abs((s.scale[k] - 1) * low[k] + along) + std::abs((s.scale[k] - 1) * high[k] + along);
+    moves[size_t(2 * k)] = std::abs((s.scale[k] - 1) * low[k] + along);
+    moves[size_t(2 * k + 1)] = std::abs((s.scale[k] - 1) * high[k] + along);
   }
+  return moves;
+}
+
+// How far the scaling moves the template's ends, summed over both ends of every axis.
+double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  const std::array<double, 6> moves = moves_of_ends(s, low, high);
+  double sum = 0;
+  for (size_t k = 0; k < 3; ++k) sum += moves[2 * k] + moves[2 * k + 1];
   return sum;
 }
 
@@ -114,13 +126,24 @@ double uncovered_facing(const KdTree& seen, const Eigen::Vector3d& towards_senso
   return count(uncovered) / std::max(1.0, count(facing));
 }
 
-}  // namespace
+// The shares of `points` on the source scaled by `s` (its samples in `tree`; as share_on_scaled), and near it (within
+// two spacings of a sample) but past its ends along its axes by over half a spacing (`low`, `high`: the unscaled
+// template's ends, principal coordinates about the centre of `s`). A point within two spacings of a sample may lie up
+// to two spacings past the template's end and still be on it: a scan running on past an end it sees only at a grazing
+// angle (the top rows of a box's sides, seen from below) lies as much on a template scaled a step short of it.
+struct OnScaled {
+  double on = 0, past = 0;
+};
 
-double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
-                       const TemplateScaling& s, double spacing) {
-  if (points.cols() == 0) return 0;
+OnScaled on_and_past(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                     const TemplateScaling& s, double spacing, const Eigen::Vector3d& low,
+                     const Eigen::Vector3d& high) {
+  if (points.cols() == 0) return {};
   const Eigen::Matrix3d forward = scaling_matrix(s, false), back = scaling_matrix(s, true);
-  std::vector<std::uint8_t> on(size_t(points.cols()), 0);
+  const Eigen::Vector3d along = s.axes.transpose() * s.shift;
+  const Eigen::Vector3d lowest = s.scale.cwiseProduct(low) + along - Eigen::Vector3d::Constant(0.5 * spacing);
+  const Eigen::Vector3d highest = s.scale.cwiseProduct(high) + along + Eigen::Vector3d::Constant(0.5 * spacing);
+  std::vector<std::uint8_t> on(size_t(points.cols()), 0), past(size_t(points.cols()), 0);
   tbb::parallel_for(Index(0), points.cols(), [&](Index i) {
     const Eigen::Vector3d x = points.col(i);
     std::int32_t j;
@@ -128,9 +151,24 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
     tree.knn(s.centre + back * (x - s.centre - s.shift), 1, &j, &d2);
     const Eigen::Vector3d d = x - (s.centre + s.shift + forward * (source.positions().col(j) - s.centre));
     const Eigen::Vector3d n = (back * source.normals().col(j)).normalized();
-    on[size_t(i)] = d.squaredNorm() <= 4 * spacing * spacing && std::abs(d.dot(n)) <= 0.5 * spacing;
+    const bool near = d.squaredNorm() <= 4 * spacing * spacing;
+    on[size_t(i)] = near && std::abs(d.dot(n)) <= 0.5 * spacing;
+    if (!near) return;
+    const Eigen::Vector3d u = s.axes.transpose() * (x - s.centre);
+    past[size_t(i)] = (u.array() < lowest.array()).any() || (u.array() > highest.array()).any();
   });
-  return double(std::count(on.begin(), on.end(), 1)) / double(points.cols());
+  const auto share = [&](const std::vector<std::uint8_t>& v) {
+    return double(std::count(v.begin(), v.end(), 1)) / double(points.cols());
+  };
+  return {share(on), share(past)};
+}
+
+}  // namespace
+
+double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                       const TemplateScaling& s, double spacing) {
+  const Eigen::Vector3d endless = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  return on_and_past(points, source, tree, s, spacing, -endless, endless).on;
 }
 
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
@@ -141,21 +179,29 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
   ends_along_axes(source, best, low, high);
   share = share_on_scaled(points, source, tree, best, spacing);
   // The trials of one group all start from the scaling before them. Of those laying as much on as the best of them
-  // (within kClearlyMore), the one moving the template's ends least is taken, where it lays kClearlyMore more on than
-  // the scaling before: a few samples more on are no evidence of a size, and an end the scan does not see stays where
-  // it is drawn (a box drawn shorter than the crate, on its floor, seen from above: scaled about its floor, not its
-  // centroid, which would sink the floor as far as it lifts the top).
+  // (within kClearlyMore) and leaving as few of the points past the template's ends (within kPastNoise), the one
+  // moving the template's ends least is taken, where it lays kClearlyMore more on than the scaling before: a few
+  // samples more on are no evidence of a size, and an end the scan does not see stays where it is drawn (a box drawn
+  // shorter than the crate, on its floor, seen from above: scaled about its floor, not its centroid, which would sink
+  // the floor as far as it lifts the top). An end the scan runs past is moved to where the scan ends: the plain box
+  // seen from below in a box drawn 8% shorter, scaled 1.07 up, lays 99.3% of the scan on itself and leaves 0.5% past
+  // its top; scaled 1.08, 99.7% and none.
   const auto take_most_on = [&](const std::vector<TemplateScaling>& trials) {
-    std::vector<double> on(trials.size());
-    for (size_t t = 0; t < trials.size(); ++t) on[t] = share_on_scaled(points, source, tree, trials[t], spacing);
-    const double most = *std::max_element(on.begin(), on.end());
+    std::vector<OnScaled> on(trials.size());
+    for (size_t t = 0; t < trials.size(); ++t) on[t] = on_and_past(points, source, tree, trials[t], spacing, low, high);
+    double most = 0;
+    for (const OnScaled& o : on) most = std::max(most, o.on);
+    const auto as_much = [&](size_t t) { return on[t].on >= most - kClearlyMore && on[t].on > share + kClearlyMore; };
+    double fewest_past = 1;
+    for (size_t t = 0; t < trials.size(); ++t)
+      if (as_much(t)) fewest_past = std::min(fewest_past, on[t].past);
     size_t taken = trials.size();
     for (size_t t = 0; t < trials.size(); ++t)
-      if (on[t] >= most - kClearlyMore && on[t] > share + kClearlyMore &&
+      if (as_much(t) && on[t].past <= fewest_past + kPastNoise &&
           (taken == trials.size() || end_moves(trials[t], low, high) < end_moves(trials[taken], low, high)))
         taken = t;
     if (taken == trials.size()) return;
-    share = on[taken];
+    share = on[taken].on;
     best = trials[taken];
   };
   for (int pass = 0; pass < kPasses; ++pass)
@@ -192,6 +238,13 @@ TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen:
     misfit = left[taken];
   }
   return s;
+}
+
+int ends_moved_beyond(const PointSet& source, const TemplateScaling& s, double distance) {
+  Eigen::Vector3d low, high;
+  ends_along_axes(source, s, low, high);
+  const std::array<double, 6> moves = moves_of_ends(s, low, high);
+  return int(std::count_if(moves.begin(), moves.end(), [&](double m) { return m > distance; }));
 }
 
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s) {

@@ -9,7 +9,9 @@
 // where it is a pose (scaling moves opposite faces apart, a pose moves them together). A user's box may be drawn off
 // at one end only (taller, its floor below the crate's and its top level with it): the scaling is then about that
 // other end, which stays, and moves the template's centroid, about which its own turns and flips turn. Where the scan
-// does not see that end, the scan's faces still end at it, and the template is trimmed to them.
+// does not see that end, the scan's faces still end at it, and the template is trimmed to them. A template drawn too
+// short at one end lays the scan's faces on its own, and ICP hardly moves the scan; the scan runs on past that end,
+// and the template scaled to reach where it ends lays more of it on itself.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,9 +40,9 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 // square box's sides, a cylinder's radius) scaled alike, that lays the most of `points` on it, by coordinate descent
 // from no scaling. An axis of its own is scaled about the centroid or about either end (which stays: the shift), axes
 // scaled alike about the centroid only. A step is taken only where it lays a hundredth more of the points on, and of
-// steps laying as much on, the one moving the template's ends least. No free shift is tried: a scan that sees one face
-// along an axis lies on it as well shifted as scaled, and a shift is a pose, which the registration fits. The source
-// needs normals.
+// steps laying as much on and leaving as few of them past the template's ends, the one moving the ends least. No free
+// shift is tried: a scan that sees one face along an axis lies on it as well shifted as scaled, and a shift is a pose,
+// which the registration fits. The source needs normals.
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
@@ -55,6 +57,10 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
 // template does, leaves `s` as it is. Needs the source's normals.
 TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
                                     const PointSet& source, const KdTree& tree, double spacing, TemplateScaling s);
+
+// How many of the template's six ends along the axes of `s` (the lowest and highest of its samples along each) the
+// scaling moves further than `distance`.
+int ends_moved_beyond(const PointSet& source, const TemplateScaling& s, double distance);
 
 // The source's samples scaled: positions about the centre, normals by the inverse transpose (still unit length).
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s);
