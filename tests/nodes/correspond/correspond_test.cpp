@@ -178,6 +178,23 @@ TEST(Correspond, TrimsATemplateDrawnAtAnotherSizeToTheFloorItsScanEndsAt) {
   expect_standing_on_the_plain_box(wide, r, "the floor, unseen, where the scan's sides end", "the top");
 }
 
+// The plain box in a template drawn 8% shorter, standing on its floor: the scan's faces lie on the template's, so ICP
+// hardly moves it, and its top 7 cm overhang the template's. Scaled 1.09 up about its floor, the template lays them on
+// itself as well, and stands for the box, its top on the box's: seen from the front, a little above (the lid seen),
+// and from below, where only the sides' grazing rows run on past the template's top (a template scaled a step short
+// lays as many of them on itself, within two spacings of its end).
+TEST(Correspond, ScalesATemplateDrawnTooShortThatTheScanRunsPastThoughICPHardlyMovesIt) {
+  const SampleResult shorter =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.828), Eigen::Vector3d(0, 0, 0.414)), {.count = 20000});
+  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0.0, -1.0, 0.2), Eigen::Vector3d(0.35, -0.25, -1.0)}) {
+    const CorrespondResult r = registered_rigidly(plain_box_scanned_along(view), shorter);
+    EXPECT_TRUE(r.another_size) << view.transpose();
+    EXPECT_TRUE(r.template_scaled);
+    EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+    expect_standing_on_the_plain_box(shorter, r, "the floor where it is drawn", "the top on the box's");
+  }
+}
+
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
 CorrespondResult register_ribbed_box(const Eigen::Vector3d& direction, const PointSet& box) {
   const PointSet ribbed = make_ribbed_box();
