@@ -4,7 +4,7 @@ user would draw for them, some at another size than the object (`python3 bench/r
     python3 bench/heldout_shapes.py DIR      writes the OBJ files into DIR and prints the cases
 
 - a studded box, 0.6 x 0.6 x 0.9, twelve round studs on each side, plain lid and floor: its plain 8-vertex box at the
-  walls, the same box 8% narrower, and 10% wider and 5% taller;
+  walls, the same box 8% narrower, 10% wider and 5% taller, and 8% shorter standing on the box's floor;
 - a golf ball, radius 0.5 with 80 bumps: a plain UV sphere of its radius, 6% larger and 5% smaller;
 - a vase with ten grooves twisted about its axis, a bulge and a narrower neck, closed at the bottom: its own body of
   revolution (`revolution:`).
@@ -109,13 +109,15 @@ def write_heldout(directory):
     write_obj(path("studded_box_template.obj"), box((0.6, 0.6, 0.9), (0, 0, 0.45)))
     write_obj(path("studded_box_narrower.obj"), box((0.552, 0.552, 0.9), (0, 0, 0.45)))
     write_obj(path("studded_box_wider.obj"), box((0.66, 0.66, 0.945), (0, 0, 0.4275)))
+    write_obj(path("studded_box_shorter.obj"), box((0.6, 0.6, 0.828), (0, 0, 0.414)))
     write_obj(path("golf_ball.obj"), sphere(golf_radius, 240, 120))
     for name, r in (("golf_ball_template", 0.5), ("golf_ball_larger", 0.53), ("golf_ball_smaller", 0.475)):
         write_obj(path(name + ".obj"), sphere(lambda d, r=r: r, 48, 24))
     write_obj(path("twisted_vase.obj"), twisted_vase())
     return [
         ("held-out: studded box", path("studded_box.obj"),
-         [path("studded_box_template.obj"), path("studded_box_narrower.obj"), path("studded_box_wider.obj")]),
+         [path("studded_box_template.obj"), path("studded_box_narrower.obj"), path("studded_box_wider.obj"),
+          path("studded_box_shorter.obj")]),
         ("held-out: golf ball", path("golf_ball.obj"),
          [path("golf_ball_template.obj"), path("golf_ball_larger.obj"), path("golf_ball_smaller.obj")]),
         ("held-out: twisted vase", path("twisted_vase.obj"), ["revolution:" + path("twisted_vase.obj")]),
