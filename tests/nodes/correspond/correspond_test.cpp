@@ -128,11 +128,6 @@ TEST(Correspond, KeepsAScansOwnPoseInATemplateDrawnAtAnotherSize) {
   EXPECT_LT(moved.rigid.compose(motion).translation.norm(), own.spacing);
 }
 
-// The same box seen from below, in a template drawn 10% wider and 5% taller, its floor 4.5 cm below the box's (its top
-// level with the box's): scaled about its centroid, the template lays the box's floor or its sides' tops on itself,
-// not both, and less of the scan than ICP, which moved the scan onto the template's floor and the sides it sees. Scaled
-// about its top and shifted, it lays the floor and the sides on itself, and stands scaled for the template: its floor
-// on the box's, its sides on the box's, and its top, which the scan does not see, where it is drawn.
 // The plain box's template drawn 10% wider and 5% taller, its floor 4.5 cm below the box's and its top level with it.
 SampleResult larger_lower_box() {
   return sample(make_lowpoly_box(Eigen::Vector3d(0.66, 0.66, 0.945), Eigen::Vector3d(0, 0, 0.4275)), {.count = 20000});
@@ -152,6 +147,11 @@ void expect_standing_on_the_plain_box(const SampleResult& t, const CorrespondRes
   }
 }
 
+// The same box seen from below, in a template drawn 10% wider and 5% taller, its floor 4.5 cm below the box's (its top
+// level with the box's): scaled about its centroid, the template lays the box's floor or its sides' tops on itself,
+// not both, and less of the scan than ICP, which moved the scan onto the template's floor and the sides it sees. Scaled
+// about its top and shifted, it lays the floor and the sides on itself, and stands scaled for the template: its floor
+// on the box's, its sides on the box's, and its top, which the scan does not see, where it is drawn.
 TEST(Correspond, ScalesATemplateDrawnAtAnotherSizeAndOffTheScanToItsFloor) {
   const PointSet scan = plain_box_scanned_along(Eigen::Vector3d(0.35, -0.25, -1.0));
   const SampleResult wide = larger_lower_box();
