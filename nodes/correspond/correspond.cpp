@@ -288,11 +288,14 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 // (trimmed_to_the_seen): scaled 0.95 about its top, the template's floor lands on the box's (seed 6969's eyes 12-67
 // degrees above level: F 0.738-0.902 -> 0.977-0.997). A template drawn too short at one end (a box 8% shorter
 // standing on the studded box's floor) lays the scan's faces on its own, so ICP moves the scan under a spacing (or
-// only as its relief pulls it, and the scan keeps its own pose), and the scan runs 7 cm on past the template's top:
-// where ICP moved the scan under a spacing, the size is told only for a scaling that moves one of the template's six
-// ends over kAnotherSize spacings, and ICP on the scaled template may move the scan half a spacing. The box from the
-// front: 1.09 up about its floor (F 0.879 -> 0.992). A plain disk under a gear's teeth, scaled 1.06 across onto
-// their tips, moves four ends: not a size.
+// only as its relief pulls it, and the scan keeps its own pose), and the scan runs 7 cm on past the template's top.
+// Where the scan's pose moves it under a spacing, a size is searched for from one end only (scaling_at_one_end: along
+// an axis of a spread of its own, about either end), and only then refined across; ICP on the scaled template may
+// move the scan half of ICP's own move on the template as drawn, or half a spacing; and the size is not trimmed (a
+// relief standing flat out of a face, the crate's frames, leaves the template under it uncovered, and the trim raised
+// a crate's template floor 5 cm off its floor). The studded box from the front: 1.09 up about its floor (F 0.879 ->
+// 0.992); the crate from above, its frames pulling ICP 7.7 spacings: 1.09 (F 0.713 -> 0.988). A plain disk under a
+// gear's teeth has no axis of its own but its thickness, which the teeth share: not a size.
 constexpr double kAnotherSize = 1.5;
 constexpr double kAsMuchOn = 0.01;  // of the scan: laid on "as much" within a hundredth
 constexpr double kHeldShare = 0.5;  // ICP on the scaled template moves the scan at most this share of ICP's move
@@ -310,32 +313,44 @@ std::optional<Eigen::Vector3d> towards_sensor(const PointSet& exemplar) {
   return mean.normalized();
 }
 
+// Whether the scan in its own pose is held on `source` but for its relief's pull: ICP's pose there (`icp_pose`) is
+// that pull (relief_pulled_from).
+bool keeps_its_pose_against_relief(const PointSet& exemplar, const PointSet& source, const KdTree& tree, double spacing,
+                                   const Similarity& icp_pose) {
+  const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
+  const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
+  return relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered);
+}
+
 std::optional<TemplateScaling> drawn_at_another_size(const PointSet& exemplar, const PointSet& source,
-                                                     const KdTree& tree, double spacing, const Similarity& icp_pose,
-                                                     const CorrespondOptions& o) {
-  const double icp_move = largest_displacement(exemplar.positions(), icp_pose);
+                                                     const KdTree& tree, double spacing, const Similarity& pose,
+                                                     double icp_move, const CorrespondOptions& o) {
   if (!source.has_normals()) return std::nullopt;
   const Index n = (exemplar.size() + kSizeStride - 1) / kSizeStride;
   Eigen::Matrix3Xd own(3, n), moved(3, n);
   for (Index i = 0; i < n; ++i) {
     own.col(i) = exemplar.positions().col(i * kSizeStride);
-    moved.col(i) = icp_pose.apply(own.col(i));
+    moved.col(i) = pose.apply(own.col(i));
   }
   double scaled_on = 0;
-  const TemplateScaling scaling = scaling_that_fits(own, source, tree, spacing, scaled_on);
+  const bool hardly_moved = largest_displacement(exemplar.positions(), pose) <= spacing;
+  const TemplateScaling scaling = hardly_moved ? scaling_at_one_end(own, source, tree, spacing, scaled_on)
+                                               : scaling_that_fits(own, source, tree, spacing, scaled_on);
   const double registered_on = share_on_scaled(moved, source, tree, TemplateScaling{}, spacing);
   if (scaled_on < kGrounded || scaled_on < registered_on - kAsMuchOn ||
       largest_scaling_move(source, scaling) < kAnotherSize * spacing)
     return std::nullopt;
-  if (icp_move <= spacing && ends_moved_beyond(source, scaling, kAnotherSize * spacing) != 1) return std::nullopt;
   const PointSet scaled = scaled_source(source, scaling);
   KdTree scaled_tree;
   scaled_tree.build(scaled.positions());
   double rms = 0;
   const Similarity held = rigid_icp(exemplar, scaled, scaled_tree, o, rms);
-  if (largest_displacement(exemplar.positions(), held) > kHeldShare * std::max(icp_move, spacing)) return std::nullopt;
+  if (largest_displacement(exemplar.positions(), held) > kHeldShare * std::max(icp_move, spacing) &&
+      !(hardly_moved && icp_move > spacing &&
+        keeps_its_pose_against_relief(exemplar, scaled, scaled_tree, spacing, held)))
+    return std::nullopt;
   const auto sensor = towards_sensor(exemplar);
-  return sensor ? trimmed_to_the_seen(own, *sensor, source, tree, spacing, scaling) : scaling;
+  return sensor && !hardly_moved ? trimmed_to_the_seen(own, *sensor, source, tree, spacing, scaling) : scaling;
 }
 
 std::string another_size_warning(const TemplateScaling& s, bool stands_in) {
@@ -646,18 +661,19 @@ Similarity registration_or_input_pose(const PointSet& exemplar, const PointSet& 
       symmetric ? nearest_identity_member(icp_fit, {round->centre, round->direction, 0}) : icp_fit;
   const Placement registered = placement_on_source(exemplar, source, tree, icp_pose, spacing);
   const Placement as_given = placement_on_source(exemplar, source, tree, Similarity{}, spacing);
+  const double icp_move = largest_displacement(exemplar.positions(), icp_pose);
   if (relief_pulled_from(exemplar, source, tree, spacing, Similarity{}, as_given, icp_pose, registered) ||
       (round &&
        pulled_by_relief_about_a_round_template(exemplar, source, tree, spacing, as_given, icp_pose, registered))) {
     r.kept_input_pose = true;
     // In its own pose, the scan may still run on past an end of a template drawn too short.
-    if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, Similarity{}, o)) {
+    if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, Similarity{}, icp_move, o)) {
       r.another_size = true;
       r.template_scaling = *scaling;
     }
     return Similarity{};
   }
-  if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, icp_pose, o)) {
+  if (const auto scaling = drawn_at_another_size(exemplar, source, tree, spacing, icp_pose, icp_move, o)) {
     r.kept_input_pose = r.another_size = true;
     r.template_scaling = *scaling;
     return Similarity{};

@@ -7,6 +7,8 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <vector>
 
 namespace scanfill {
@@ -20,6 +22,7 @@ constexpr double kAsMuchOn = 0.01;     // share of the points laid on "as much" 
 constexpr double kClearlyLess = 0.01;  // how far a trim must lower the misfit (uncovered facing share + share off)
 constexpr double kPastNoise = 0.001;   // share of the points: as few past the template's ends
 constexpr double kFacing = 0.1;        // cosine between a template normal and the direction towards the sensor
+constexpr int kEndSteps = 4;           // scaling_at_one_end: steps at one end, one after the other
 
 Eigen::Matrix3d scaling_matrix(const TemplateScaling& s, bool inverse) {
   const Eigen::Vector3d d = inverse ? Eigen::Vector3d(s.scale.cwiseInverse()) : s.scale;
@@ -97,13 +100,21 @@ double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eig
   return sum;
 }
 
+// The trials of a group of axes from `s`: scaled 0.80 to 1.25 in steps of 0.01 about `pivot`.
+std::vector<TemplateScaling> trials_about(const TemplateScaling& s, const std::vector<int>& group,
+                                          const Eigen::Vector3d& pivot) {
+  const int steps = int(std::lround((kLargest - kSmallest) / kStep));
+  std::vector<TemplateScaling> trials;
+  for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(s, group, kSmallest + k * kStep, pivot));
+  return trials;
+}
+
 // Each group's trials from `s`: its axes scaled 0.80 to 1.25 in steps of 0.01 about each of its pivots.
 std::vector<TemplateScaling> trials_of(const TemplateScaling& s, const std::vector<int>& group,
                                        const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
-  const int steps = int(std::lround((kLargest - kSmallest) / kStep));
   std::vector<TemplateScaling> trials;
   for (const Eigen::Vector3d& pivot : pivots_of(group, low, high))
-    for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(s, group, kSmallest + k * kStep, pivot));
+    for (const TemplateScaling& t : trials_about(s, group, pivot)) trials.push_back(t);
   return trials;
 }
 
@@ -130,9 +141,13 @@ double uncovered_facing(const KdTree& seen, const Eigen::Vector3d& towards_senso
 // two spacings of a sample) but past its ends along its axes by over half a spacing (`low`, `high`: the unscaled
 // template's ends, principal coordinates about the centre of `s`). A point within two spacings of a sample may lie up
 // to two spacings past the template's end and still be on it: a scan running on past an end it sees only at a grazing
-// angle (the top rows of a box's sides, seen from below) lies as much on a template scaled a step short of it.
+// angle (the top rows of a box's sides, seen from below) lies as much on a template scaled a step short of it. And how
+// far past its ends the points run at all, at any distance from it (`beyond`): the share past each axis's ends, summed
+// over the axes. Relief standing out of the template runs past its ends there; a crate's frame, 2 cm proud of its
+// front and running on 4 cm below a template's floor, lies past two ends, and scaling that floor down to the crate's
+// takes it past one only.
 struct OnScaled {
-  double on = 0, past = 0;
+  double on = 0, past = 0, beyond = 0;
 };
 
 OnScaled on_and_past(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
@@ -141,9 +156,11 @@ OnScaled on_and_past(const Eigen::Matrix3Xd& points, const PointSet& source, con
   if (points.cols() == 0) return {};
   const Eigen::Matrix3d forward = scaling_matrix(s, false), back = scaling_matrix(s, true);
   const Eigen::Vector3d along = s.axes.transpose() * s.shift;
-  const Eigen::Vector3d lowest = s.scale.cwiseProduct(low) + along - Eigen::Vector3d::Constant(0.5 * spacing);
-  const Eigen::Vector3d highest = s.scale.cwiseProduct(high) + along + Eigen::Vector3d::Constant(0.5 * spacing);
+  const Eigen::Vector3d low_end = s.scale.cwiseProduct(low) + along, high_end = s.scale.cwiseProduct(high) + along;
+  const Eigen::Vector3d lowest = low_end - Eigen::Vector3d::Constant(0.5 * spacing);
+  const Eigen::Vector3d highest = high_end + Eigen::Vector3d::Constant(0.5 * spacing);
   std::vector<std::uint8_t> on(size_t(points.cols()), 0), past(size_t(points.cols()), 0);
+  std::vector<std::uint8_t> beyond(size_t(points.cols()), 0);
   tbb::parallel_for(Index(0), points.cols(), [&](Index i) {
     const Eigen::Vector3d x = points.col(i);
     std::int32_t j;
@@ -153,14 +170,111 @@ OnScaled on_and_past(const Eigen::Matrix3Xd& points, const PointSet& source, con
     const Eigen::Vector3d n = (back * source.normals().col(j)).normalized();
     const bool near = d.squaredNorm() <= 4 * spacing * spacing;
     on[size_t(i)] = near && std::abs(d.dot(n)) <= 0.5 * spacing;
-    if (!near) return;
     const Eigen::Vector3d u = s.axes.transpose() * (x - s.centre);
-    past[size_t(i)] = (u.array() < lowest.array()).any() || (u.array() > highest.array()).any();
+    past[size_t(i)] = near && ((u.array() < lowest.array()).any() || (u.array() > highest.array()).any());
+    beyond[size_t(i)] = std::uint8_t(((u.array() < low_end.array()) || (u.array() > high_end.array())).count());
   });
   const auto share = [&](const std::vector<std::uint8_t>& v) {
     return double(std::count(v.begin(), v.end(), 1)) / double(points.cols());
   };
-  return {share(on), share(past)};
+  return {share(on), share(past), double(std::accumulate(beyond.begin(), beyond.end(), 0)) / double(points.cols())};
+}
+
+// The shares `s` lays on the source and leaves past its ends (on_and_past) for each of `trials`.
+std::vector<OnScaled> shares_of(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                                double spacing, const Eigen::Vector3d& low, const Eigen::Vector3d& high,
+                                const std::vector<TemplateScaling>& trials) {
+  std::vector<OnScaled> on(trials.size());
+  for (size_t t = 0; t < trials.size(); ++t) on[t] = on_and_past(points, source, tree, trials[t], spacing, low, high);
+  return on;
+}
+
+// The least `value` of the trials `admitted` (1, a whole share, where none is).
+template <class Admitted, class Value>
+double least_of(size_t trials, Admitted admitted, Value value) {
+  double least = 1;
+  for (size_t t = 0; t < trials; ++t)
+    if (admitted(t)) least = std::min(least, value(t));
+  return least;
+}
+
+// Of the trials `admitted`, the one moving the template's ends least (`low`, `high`: the unscaled template's ends).
+template <class Admitted>
+std::optional<size_t> least_moving(const std::vector<TemplateScaling>& trials, const Eigen::Vector3d& low,
+                                   const Eigen::Vector3d& high, Admitted admitted) {
+  std::optional<size_t> taken;
+  for (size_t t = 0; t < trials.size(); ++t)
+    if (admitted(t) && (!taken || end_moves(trials[t], low, high) < end_moves(trials[*taken], low, high))) taken = t;
+  return taken;
+}
+
+// Of `trials` (their shares `on`), those laying as much of the points on the source as the best of them (within
+// kClearlyMore) and leaving as few of them past the template's ends (within kPastNoise), the one moving the
+// template's ends least; none where it lays no more than kClearlyMore over `share`. A few samples more on are no
+// evidence of a size, and an end the scan does not see stays where it is drawn (a box drawn shorter than the crate, on
+// its floor, seen from above: scaled about its floor, not its centroid, which would sink the floor as far as it lifts
+// the top). An end the scan runs past is moved to where the scan ends: the plain box seen from below in a box drawn 8%
+// shorter, scaled 1.07 up, lays 99.3% of the scan on itself and leaves 0.5% past its top; scaled 1.08, 99.7% and none.
+// `to_the_scans_end` asks as well for the fewest past the ends at all (`beyond`), for a scaling at one end: the crate's
+// sides seen from 70 degrees below, in its box drawn 8% shorter, lay as much on that box scaled 1.07 as 1.09, and the
+// top of their sparse last rows lies within half a spacing of either.
+std::optional<size_t> laying_more_on(const std::vector<TemplateScaling>& trials, const std::vector<OnScaled>& on,
+                                     const Eigen::Vector3d& low, const Eigen::Vector3d& high, double share,
+                                     bool to_the_scans_end) {
+  double most = 0;
+  for (const OnScaled& o : on) most = std::max(most, o.on);
+  const auto as_much = [&](size_t t) { return on[t].on >= most - kClearlyMore && on[t].on > share + kClearlyMore; };
+  const double fewest_past = least_of(on.size(), as_much, [&](size_t t) { return on[t].past; });
+  const auto fewest = [&](size_t t) { return as_much(t) && on[t].past <= fewest_past + kPastNoise; };
+  const double fewest_beyond = least_of(on.size(), fewest, [&](size_t t) { return on[t].beyond; });
+  return least_moving(trials, low, high,
+                      [&](size_t t) { return fewest(t) && (!to_the_scans_end || on[t].beyond <= fewest_beyond); });
+}
+
+// Of `trials` (their shares `on`), those laying as much of the points on the source as `share` does unscaled (within
+// kClearlyMore) and leaving kClearlyMore fewer of them past its ends at all than it does (`unscaled`), the one leaving
+// fewest and of those the one moving the template's ends least; none if no trial does. A scan that sees where it runs
+// on past an end only as relief standing out of the template (the crate's raised frames, seen from below, in a box
+// drawn 8% shorter) lays no more of itself on a template scaled to reach there.
+std::optional<size_t> leaving_fewer_beyond(const std::vector<TemplateScaling>& trials, const std::vector<OnScaled>& on,
+                                           const OnScaled& unscaled, const Eigen::Vector3d& low,
+                                           const Eigen::Vector3d& high, double share) {
+  const auto fewer = [&](size_t t) {
+    return on[t].on >= share - kClearlyMore && on[t].beyond <= unscaled.beyond - kClearlyMore;
+  };
+  const double fewest = least_of(on.size(), fewer, [&](size_t t) { return on[t].beyond; });
+  return least_moving(trials, low, high, [&](size_t t) { return fewer(t) && on[t].beyond <= fewest; });
+}
+
+// The trials of scaling_at_one_end from `s`: each axis of a spread of its own scaled about either of its ends.
+std::vector<TemplateScaling> trials_at_one_end(const TemplateScaling& s, const std::vector<std::vector<int>>& groups,
+                                               const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  std::vector<TemplateScaling> trials;
+  for (const std::vector<int>& g : groups) {
+    if (g.size() > 1) continue;
+    for (const Eigen::Vector3d& pivot : {low, high})
+      for (const TemplateScaling& t : trials_about(s, g, pivot)) trials.push_back(t);
+  }
+  return trials;
+}
+
+// The scaling by coordinate descent from `s` (laying `share` of `points` on the source): each group of axes in turn,
+// twice over, its trials from the scaling before them, taken by laying_more_on.
+TemplateScaling descended_from(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                               double spacing, const std::vector<std::vector<int>>& groups, TemplateScaling s,
+                               double& share) {
+  Eigen::Vector3d low, high;
+  ends_along_axes(source, s, low, high);
+  for (int pass = 0; pass < kPasses; ++pass)
+    for (const std::vector<int>& g : groups) {
+      const std::vector<TemplateScaling> trials = trials_of(s, g, low, high);
+      const std::vector<OnScaled> on = shares_of(points, source, tree, spacing, low, high, trials);
+      if (const auto taken = laying_more_on(trials, on, low, high, share, false)) {
+        s = trials[*taken];
+        share = on[*taken].on;
+      }
+    }
+  return s;
 }
 
 }  // namespace
@@ -174,39 +288,33 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share) {
   std::vector<std::vector<int>> groups;
-  TemplateScaling best = principal_axes(source, groups);
+  const TemplateScaling unscaled = principal_axes(source, groups);
+  share = share_on_scaled(points, source, tree, unscaled, spacing);
+  return descended_from(points, source, tree, spacing, groups, unscaled, share);
+}
+
+TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                                   double spacing, double& share) {
+  std::vector<std::vector<int>> groups;
+  const TemplateScaling unscaled = principal_axes(source, groups);
   Eigen::Vector3d low, high;
-  ends_along_axes(source, best, low, high);
-  share = share_on_scaled(points, source, tree, best, spacing);
-  // The trials of one group all start from the scaling before them. Of those laying as much on as the best of them
-  // (within kClearlyMore) and leaving as few of the points past the template's ends (within kPastNoise), the one
-  // moving the template's ends least is taken, where it lays kClearlyMore more on than the scaling before: a few
-  // samples more on are no evidence of a size, and an end the scan does not see stays where it is drawn (a box drawn
-  // shorter than the crate, on its floor, seen from above: scaled about its floor, not its centroid, which would sink
-  // the floor as far as it lifts the top). An end the scan runs past is moved to where the scan ends: the plain box
-  // seen from below in a box drawn 8% shorter, scaled 1.07 up, lays 99.3% of the scan on itself and leaves 0.5% past
-  // its top; scaled 1.08, 99.7% and none.
-  const auto take_most_on = [&](const std::vector<TemplateScaling>& trials) {
-    std::vector<OnScaled> on(trials.size());
-    for (size_t t = 0; t < trials.size(); ++t) on[t] = on_and_past(points, source, tree, trials[t], spacing, low, high);
-    double most = 0;
-    for (const OnScaled& o : on) most = std::max(most, o.on);
-    const auto as_much = [&](size_t t) { return on[t].on >= most - kClearlyMore && on[t].on > share + kClearlyMore; };
-    double fewest_past = 1;
-    for (size_t t = 0; t < trials.size(); ++t)
-      if (as_much(t)) fewest_past = std::min(fewest_past, on[t].past);
-    size_t taken = trials.size();
-    for (size_t t = 0; t < trials.size(); ++t)
-      if (as_much(t) && on[t].past <= fewest_past + kPastNoise &&
-          (taken == trials.size() || end_moves(trials[t], low, high) < end_moves(trials[taken], low, high)))
-        taken = t;
-    if (taken == trials.size()) return;
-    share = on[taken].on;
-    best = trials[taken];
-  };
-  for (int pass = 0; pass < kPasses; ++pass)
-    for (const std::vector<int>& g : groups) take_most_on(trials_of(best, g, low, high));
-  return best;
+  ends_along_axes(source, unscaled, low, high);
+  share = share_on_scaled(points, source, tree, unscaled, spacing);
+  TemplateScaling s = unscaled;
+  bool scaled = false;
+  for (int step = 0; step < kEndSteps; ++step) {
+    const std::vector<TemplateScaling> trials = trials_at_one_end(s, groups, low, high);
+    const std::vector<OnScaled> on = shares_of(points, source, tree, spacing, low, high, trials);
+    auto taken = laying_more_on(trials, on, low, high, share, true);
+    if (!taken)
+      taken =
+          leaving_fewer_beyond(trials, on, on_and_past(points, source, tree, s, spacing, low, high), low, high, share);
+    if (!taken) break;
+    s = trials[*taken];
+    share = on[*taken].on;
+    scaled = true;
+  }
+  return scaled ? descended_from(points, source, tree, spacing, groups, s, share) : unscaled;
 }
 
 TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
@@ -238,13 +346,6 @@ TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen:
     misfit = left[taken];
   }
   return s;
-}
-
-int ends_moved_beyond(const PointSet& source, const TemplateScaling& s, double distance) {
-  Eigen::Vector3d low, high;
-  ends_along_axes(source, s, low, high);
-  const std::array<double, 6> moves = moves_of_ends(s, low, high);
-  return int(std::count_if(moves.begin(), moves.end(), [&](double m) { return m > distance; }));
 }
 
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s) {

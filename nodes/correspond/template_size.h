@@ -46,6 +46,18 @@ double share_on_scaled(const Eigen::Matrix3Xd& points, const PointSet& source, c
 TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                   double spacing, double& share);
 
+// The scaling of the source at its ends one at a time, for a template drawn too short at an end, which the scan runs
+// past: ICP lays the scan's faces on the template's and hardly moves it. Each step scales one of the source's axes of
+// a spread of its own (not a square box's sides, not a disk's radius) about either end of it, which stays: of the
+// trials of scaling_that_fits over every such axis and end, one laying more of `points` on (as scaling_that_fits
+// chooses, and then leaving fewest past the ends at all), else one laying as many on and leaving a hundredth fewer
+// past the ends at all (the scan runs on past the end only as relief standing out of the template: a crate's frames,
+// seen from below). Up to four steps, the last end moved staying (a box drawn short at both ends), then
+// scaling_that_fits's descent from there; no scaling where no end alone gains. The full search from no scaling also
+// scales a disk radially onto a gear's teeth; a disk's one axis of its own is its thickness, which the teeth share.
+TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
+                                   double spacing, double& share);
+
 // `s` refined so that the template fits the scan both ways: the least of its surface facing the sensor left without
 // the scan on it, plus the least of `points` left off it, where that lays as many of them on (within a hundredth). Per
 // group of axes, the trials of scaling_that_fits (scales and pivots) from `s`, taken where that misfit falls by a
@@ -57,10 +69,6 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
 // template does, leaves `s` as it is. Needs the source's normals.
 TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
                                     const PointSet& source, const KdTree& tree, double spacing, TemplateScaling s);
-
-// How many of the template's six ends along the axes of `s` (the lowest and highest of its samples along each) the
-// scaling moves further than `distance`.
-int ends_moved_beyond(const PointSet& source, const TemplateScaling& s, double distance);
 
 // The source's samples scaled: positions about the centre, normals by the inverse transpose (still unit length).
 PointSet scaled_source(const PointSet& source, const TemplateScaling& s);
