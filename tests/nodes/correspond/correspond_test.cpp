@@ -195,6 +195,28 @@ TEST(Correspond, ScalesATemplateDrawnTooShortThatTheScanRunsPastThoughICPHardlyM
   }
 }
 
+// The crate (0.6 x 0.6 x 0.8, frames and diamonds standing 2 cm out of its sides) in a box drawn 8% shorter, standing
+// on its floor: the frames pull ICP, and the scan keeps its own pose, 6.4 cm of it above the template's top. Scaled
+// about its floor up the one axis of a spread of its own, the template lays the crate's lid on itself (from above,
+// from behind; scaled across as well, onto the frames, it moved five ends and was not told as a size). From the front,
+// ICP on it is still pulled 1.1 spacings, but as by the crate's relief. From below, only the frames run on past the
+// template's top, and it is scaled to leave none of the scan past its end. It stands with its top on the crate's.
+TEST(Correspond, ScalesATemplateDrawnTooShortAtOneEndUnderReliefThatStandsFlatOutOfIt) {
+  const PointSet crate = make_crate();
+  const SampleResult shorter =
+      sample(make_lowpoly_box(Eigen::Vector3d(0.6, 0.6, 0.736), Eigen::Vector3d(0, 0, 0.368)), {.count = 20000});
+  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0.25, -0.35, 1.0), Eigen::Vector3d(-0.7, 0.7, 0.5),
+                                      Eigen::Vector3d(0.0, -1.0, 0.2), Eigen::Vector3d(0.35, -0.25, -1.0)}) {
+    const CorrespondResult r = registered_rigidly(virtual_scan(crate, test::sweep_camera(crate, view)).points, shorter);
+    EXPECT_TRUE(r.another_size) << view.transpose();
+    EXPECT_TRUE(r.template_scaled);
+    EXPECT_EQ(r.rigid.translation.norm(), 0.0);
+    const Eigen::Matrix3Xd placed = template_in_place(shorter.samples, r).positions();
+    EXPECT_NEAR(placed.row(2).minCoeff(), 0.0, shorter.spacing) << "the floor where it is drawn";
+    EXPECT_NEAR(placed.row(2).maxCoeff(), 0.8, shorter.spacing) << "the top on the crate's";
+  }
+}
+
 // The ribbed box's rigid registration, scanned from `direction` (at the sweep's distance) onto `box` (20000 samples).
 CorrespondResult register_ribbed_box(const Eigen::Vector3d& direction, const PointSet& box) {
   const PointSet ribbed = make_ribbed_box();
