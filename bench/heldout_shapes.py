@@ -7,7 +7,9 @@ user would draw for them, some at another size than the object (`python3 bench/r
   walls, the same box 8% narrower, 10% wider and 5% taller, and 8% shorter standing on the box's floor;
 - a golf ball, radius 0.5 with 80 bumps: a plain UV sphere of its radius, 6% larger and 5% smaller;
 - a vase with ten grooves twisted about its axis, a bulge and a narrower neck, closed at the bottom: its own body of
-  revolution (`revolution:`).
+  revolution (`revolution:`);
+- the sweep's crate (`procedural:crate`, 0.6 x 0.6 x 0.8, raised frames and diamonds on its sides) in a box drawn 8%
+  shorter, standing on its floor: a held-out template, not a held-out model.
 Pure Python (no numpy), deterministic.
 """
 import math
@@ -114,6 +116,7 @@ def write_heldout(directory):
     for name, r in (("golf_ball_template", 0.5), ("golf_ball_larger", 0.53), ("golf_ball_smaller", 0.475)):
         write_obj(path(name + ".obj"), sphere(lambda d, r=r: r, 48, 24))
     write_obj(path("twisted_vase.obj"), twisted_vase())
+    write_obj(path("crate_shorter.obj"), box((0.6, 0.6, 0.736), (0, 0, 0.368)))
     return [
         ("held-out: studded box", path("studded_box.obj"),
          [path("studded_box_template.obj"), path("studded_box_narrower.obj"), path("studded_box_wider.obj"),
@@ -121,6 +124,7 @@ def write_heldout(directory):
         ("held-out: golf ball", path("golf_ball.obj"),
          [path("golf_ball_template.obj"), path("golf_ball_larger.obj"), path("golf_ball_smaller.obj")]),
         ("held-out: twisted vase", path("twisted_vase.obj"), ["revolution:" + path("twisted_vase.obj")]),
+        ("held-out: crate, its box drawn 8% shorter", "procedural:crate", [path("crate_shorter.obj")]),
     ]
 
 

@@ -19,7 +19,8 @@ real scanner's: 0.003 is about a third of the F-score's threshold.
 --resolution sets the virtual scanner's image (N by N rays; 480 by default): 160 gives a sparse scan of some 6000
 points, sparser than the template's samples, whose points are then used as they are (unevenly dense).
 --held-out runs only the shapes of bench/heldout_shapes.py instead (a studded box, a golf ball, a twisted vase; no test
-or node of scanfill draws them), with the plain templates a user would draw, at their models' size and off it.
+or node of scanfill draws them), with the plain templates a user would draw, at their models' size and off it, and the
+sweep's crate in a box drawn 8% shorter.
 With --check-floors it runs only the shapes that have floors (FLOORS, REGRESSION_MEANS below) and exits 1, naming
 each shortfall, when a run fails or a shape is below them. CTest runs it so as `robustness.sweep_floors` (label slow).
 
