@@ -15,6 +15,7 @@ namespace scanfill {
 namespace {
 
 constexpr double kSmallest = 0.80, kLargest = 1.25, kStep = 0.01;
+constexpr double kNoSmaller = 1.0;  // scaling_at_one_end's smallest scale
 constexpr double kEqualSpread = 0.03;
 constexpr int kPasses = 2;
 constexpr double kClearlyMore = 0.01;  // share of the points
@@ -100,21 +101,21 @@ double end_moves(const TemplateScaling& s, const Eigen::Vector3d& low, const Eig
   return sum;
 }
 
-// The trials of a group of axes from `s`: scaled 0.80 to 1.25 in steps of 0.01 about `pivot`.
+// The trials of a group of axes from `s`: scaled `smallest` to 1.25 in steps of 0.01 about `pivot`.
 std::vector<TemplateScaling> trials_about(const TemplateScaling& s, const std::vector<int>& group,
-                                          const Eigen::Vector3d& pivot) {
-  const int steps = int(std::lround((kLargest - kSmallest) / kStep));
+                                          const Eigen::Vector3d& pivot, double smallest) {
+  const int steps = int(std::lround((kLargest - smallest) / kStep));
   std::vector<TemplateScaling> trials;
-  for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(s, group, kSmallest + k * kStep, pivot));
+  for (int k = 0; k <= steps; ++k) trials.push_back(scaled_about(s, group, smallest + k * kStep, pivot));
   return trials;
 }
 
-// Each group's trials from `s`: its axes scaled 0.80 to 1.25 in steps of 0.01 about each of its pivots.
+// Each group's trials from `s`: its axes scaled `smallest` to 1.25 in steps of 0.01 about each of its pivots.
 std::vector<TemplateScaling> trials_of(const TemplateScaling& s, const std::vector<int>& group,
-                                       const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+                                       const Eigen::Vector3d& low, const Eigen::Vector3d& high, double smallest) {
   std::vector<TemplateScaling> trials;
   for (const Eigen::Vector3d& pivot : pivots_of(group, low, high))
-    for (const TemplateScaling& t : trials_about(s, group, pivot)) trials.push_back(t);
+    for (const TemplateScaling& t : trials_about(s, group, pivot, smallest)) trials.push_back(t);
   return trials;
 }
 
@@ -246,14 +247,34 @@ std::optional<size_t> leaving_fewer_beyond(const std::vector<TemplateScaling>& t
   return least_moving(trials, low, high, [&](size_t t) { return fewer(t) && on[t].beyond <= fewest; });
 }
 
-// The trials of scaling_at_one_end from `s`: each axis of a spread of its own scaled about either of its ends.
-std::vector<TemplateScaling> trials_at_one_end(const TemplateScaling& s, const std::vector<std::vector<int>>& groups,
-                                               const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+// The shares of `points` past each of the six ends of the template scaled by `s` (`low`, `high`: the unscaled
+// template's ends): the low and high end of the first axis, then of the second and the third.
+std::array<double, 6> shares_past_ends(const Eigen::Matrix3Xd& points, const TemplateScaling& s,
+                                       const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  const Eigen::Vector3d along = s.axes.transpose() * s.shift;
+  const Eigen::Vector3d low_end = s.scale.cwiseProduct(low) + along, high_end = s.scale.cwiseProduct(high) + along;
+  const Eigen::Matrix3Xd u = s.axes.transpose() * (points.colwise() - s.centre);
+  std::array<double, 6> past{};
+  for (int k = 0; k < 3; ++k) {
+    past[size_t(2 * k)] = double((u.row(k).array() < low_end[k]).count()) / double(std::max<Index>(1, u.cols()));
+    past[size_t(2 * k + 1)] = double((u.row(k).array() > high_end[k]).count()) / double(std::max<Index>(1, u.cols()));
+  }
+  return past;
+}
+
+// The trials of scaling_at_one_end from `s`: each axis of a spread of its own scaled up about either of its ends,
+// where a hundredth of `points` runs on past the other end, which moves.
+std::vector<TemplateScaling> trials_at_one_end(const Eigen::Matrix3Xd& points, const TemplateScaling& s,
+                                               const std::vector<std::vector<int>>& groups, const Eigen::Vector3d& low,
+                                               const Eigen::Vector3d& high) {
+  const std::array<double, 6> past = shares_past_ends(points, s, low, high);
   std::vector<TemplateScaling> trials;
   for (const std::vector<int>& g : groups) {
     if (g.size() > 1) continue;
-    for (const Eigen::Vector3d& pivot : {low, high})
-      for (const TemplateScaling& t : trials_about(s, g, pivot)) trials.push_back(t);
+    const auto k = size_t(g.front());
+    for (const auto& [pivot, moved] : {std::pair{low, 2 * k + 1}, std::pair{high, 2 * k}})
+      if (past[moved] >= kClearlyMore)
+        for (const TemplateScaling& t : trials_about(s, g, pivot, kNoSmaller)) trials.push_back(t);
   }
   return trials;
 }
@@ -261,13 +282,13 @@ std::vector<TemplateScaling> trials_at_one_end(const TemplateScaling& s, const s
 // The scaling by coordinate descent from `s` (laying `share` of `points` on the source): each group of axes in turn,
 // twice over, its trials from the scaling before them, taken by laying_more_on.
 TemplateScaling descended_from(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
-                               double spacing, const std::vector<std::vector<int>>& groups, TemplateScaling s,
-                               double& share) {
+                               double spacing, const std::vector<std::vector<int>>& groups, double smallest,
+                               TemplateScaling s, double& share) {
   Eigen::Vector3d low, high;
   ends_along_axes(source, s, low, high);
   for (int pass = 0; pass < kPasses; ++pass)
     for (const std::vector<int>& g : groups) {
-      const std::vector<TemplateScaling> trials = trials_of(s, g, low, high);
+      const std::vector<TemplateScaling> trials = trials_of(s, g, low, high, smallest);
       const std::vector<OnScaled> on = shares_of(points, source, tree, spacing, low, high, trials);
       if (const auto taken = laying_more_on(trials, on, low, high, share, false)) {
         s = trials[*taken];
@@ -290,7 +311,7 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
   std::vector<std::vector<int>> groups;
   const TemplateScaling unscaled = principal_axes(source, groups);
   share = share_on_scaled(points, source, tree, unscaled, spacing);
-  return descended_from(points, source, tree, spacing, groups, unscaled, share);
+  return descended_from(points, source, tree, spacing, groups, kSmallest, unscaled, share);
 }
 
 TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
@@ -303,7 +324,7 @@ TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSe
   TemplateScaling s = unscaled;
   bool scaled = false;
   for (int step = 0; step < kEndSteps; ++step) {
-    const std::vector<TemplateScaling> trials = trials_at_one_end(s, groups, low, high);
+    const std::vector<TemplateScaling> trials = trials_at_one_end(points, s, groups, low, high);
     const std::vector<OnScaled> on = shares_of(points, source, tree, spacing, low, high, trials);
     auto taken = laying_more_on(trials, on, low, high, share, true);
     if (!taken)
@@ -314,7 +335,7 @@ TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSe
     share = on[*taken].on;
     scaled = true;
   }
-  return scaled ? descended_from(points, source, tree, spacing, groups, s, share) : unscaled;
+  return scaled ? descended_from(points, source, tree, spacing, groups, kNoSmaller, s, share) : unscaled;
 }
 
 TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& towards_sensor,
@@ -330,7 +351,7 @@ TemplateScaling trimmed_to_the_seen(const Eigen::Matrix3Xd& points, const Eigen:
   const double share = share_on_scaled(points, source, tree, s, spacing);
   double misfit = uncovered_facing(seen, towards_sensor, source, s, spacing) + 1 - share;
   for (const std::vector<int>& g : groups) {
-    const std::vector<TemplateScaling> trials = trials_of(s, g, low, high);
+    const std::vector<TemplateScaling> trials = trials_of(s, g, low, high, kSmallest);
     std::vector<double> left(trials.size(), misfit);
     for (size_t t = 0; t < trials.size(); ++t)
       if (const double on = share_on_scaled(points, source, tree, trials[t], spacing); on >= share - kAsMuchOn)

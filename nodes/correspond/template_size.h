@@ -48,7 +48,9 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
 
 // The scaling of the source at its ends one at a time, for a template drawn too short at an end, which the scan runs
 // past: ICP lays the scan's faces on the template's and hardly moves it. Each step scales one of the source's axes of
-// a spread of its own (not a square box's sides, not a disk's radius) about either end of it, which stays: of the
+// a spread of its own (not a square box's sides, not a disk's radius) up about either end of it, which stays, where a
+// hundredth of `points` runs on past the other end (a scan sunk in the box that bounds it, the scanned pillar's panels,
+// lays more of itself on that box shrunk, or stretched along its height, and is not drawn at another size): of the
 // trials of scaling_that_fits over every such axis and end, one laying more of `points` on (as scaling_that_fits
 // chooses, and then leaving fewest past the ends at all), else one laying as many on and leaving a hundredth fewer
 // past the ends at all (the scan runs on past the end only as relief standing out of the template: a crate's frames,
