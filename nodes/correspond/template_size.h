@@ -55,8 +55,9 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
 // chooses, and then leaving fewest past the ends at all), else one laying as many on and leaving a hundredth fewer
 // past the ends at all (the scan runs on past the end only as relief standing out of the template: a crate's frames,
 // seen from below). Up to four steps, the last end moved staying (a box drawn short at both ends), then
-// scaling_that_fits's descent from there; no scaling where no end alone gains. The full search from no scaling also
-// scales a disk radially onto a gear's teeth; a disk's one axis of its own is its thickness, which the teeth share.
+// scaling_that_fits's descent from there, scaling up only; no scaling where no end alone gains. The full search from no
+// scaling also scales a disk radially onto a gear's teeth; a disk's one axis of its own is its thickness, which the
+// teeth share.
 TemplateScaling scaling_at_one_end(const Eigen::Matrix3Xd& points, const PointSet& source, const KdTree& tree,
                                    double spacing, double& share);
 
