@@ -290,10 +290,12 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 // standing on the studded box's floor) lays the scan's faces on its own, so ICP moves the scan under a spacing (or
 // only as its relief pulls it, and the scan keeps its own pose), and the scan runs 7 cm on past the template's top.
 // Where the scan's pose moves it under a spacing, a size is searched for from one end only (scaling_at_one_end: along
-// an axis of a spread of its own, about either end), and only then refined across; ICP on the scaled template may
-// move the scan half of ICP's own move on the template as drawn, or half a spacing; and the size is not trimmed (a
-// relief standing flat out of a face, the crate's frames, leaves the template under it uncovered, and the trim raised
-// a crate's template floor 5 cm off its floor). The studded box from the front: 1.09 up about its floor (F 0.879 ->
+// an axis of a spread of its own, outwards about either end, where the scan runs past the other), and only then
+// refined across; ICP on the scaled template may move the scan half of ICP's own move on the template as drawn, or
+// half a spacing, or, where the scan keeps its own pose against its relief, as far as that relief pulls it on the
+// scaled template (keeps_its_pose_against_relief); and the size is not trimmed (a relief standing flat out of a face,
+// the crate's frames, leaves the template under it uncovered, and the trim raised a crate's template floor 5 cm off
+// its floor). The studded box from the front: 1.09 up about its floor (F 0.879 ->
 // 0.992); the crate from above, its frames pulling ICP 7.7 spacings: 1.09 (F 0.713 -> 0.988). A plain disk under a
 // gear's teeth has no axis of its own but its thickness, which the teeth share: not a size.
 constexpr double kAnotherSize = 1.5;
