@@ -238,9 +238,9 @@ std::optional<size_t> laying_more_on(const std::vector<TemplateScaling>& trials,
 // sides seen from 70 degrees below, in its box drawn 8% shorter, lay as much on that box scaled 1.07 as 1.09, and the
 // top of their sparse last rows lies within half a spacing of either. Seen from 4 degrees above level, the crate's
 // front lays 46% of the scan on that box at any scale from 1.08 up, a few points more or fewer as their nearest
-// samples change, as many as the near points past its ends change; the scan runs past no scale from 1.09 up, and
-// 1.09 is taken (1.12 where each trial had to lay a hundredth more than `share`, and the fewest near points past its
-// ends came first).
+// samples change, as many as the near points past its ends change; the share of the scan past its ends stops falling
+// at 1.09 (the frames proud of its sides stay past them), and 1.09 is taken (1.12 where each trial had to lay a
+// hundredth more than `share`, and the fewest near points past its ends came first).
 std::optional<size_t> reaching_the_scans_end(const std::vector<TemplateScaling>& trials,
                                              const std::vector<OnScaled>& on, const Eigen::Vector3d& low,
                                              const Eigen::Vector3d& high, double share) {
