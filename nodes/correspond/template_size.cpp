@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace scanfill {
@@ -79,6 +80,14 @@ void ends_along_axes(const PointSet& source, const TemplateScaling& s, Eigen::Ve
   const Eigen::Matrix3Xd along = s.axes.transpose() * (source.positions().colwise() - s.centre);
   low = along.rowwise().minCoeff();
   high = along.rowwise().maxCoeff();
+}
+
+// The template's ends along the axes of `s` once scaled by it (`low`, `high`: the unscaled template's ends, principal
+// coordinates about its centroid): its lowest and highest principal coordinates.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> scaled_ends(const TemplateScaling& s, const Eigen::Vector3d& low,
+                                                        const Eigen::Vector3d& high) {
+  const Eigen::Vector3d along = s.axes.transpose() * s.shift;
+  return {s.scale.cwiseProduct(low) + along, s.scale.cwiseProduct(high) + along};
 }
 
 // How far the scaling moves each of the template's six ends along its axes (`low`, `high`: principal coordinates about
@@ -156,8 +165,7 @@ OnScaled on_and_past(const Eigen::Matrix3Xd& points, const PointSet& source, con
                      const Eigen::Vector3d& high) {
   if (points.cols() == 0) return {};
   const Eigen::Matrix3d forward = scaling_matrix(s, false), back = scaling_matrix(s, true);
-  const Eigen::Vector3d along = s.axes.transpose() * s.shift;
-  const Eigen::Vector3d low_end = s.scale.cwiseProduct(low) + along, high_end = s.scale.cwiseProduct(high) + along;
+  const auto [low_end, high_end] = scaled_ends(s, low, high);
   const Eigen::Vector3d lowest = low_end - Eigen::Vector3d::Constant(0.5 * spacing);
   const Eigen::Vector3d highest = high_end + Eigen::Vector3d::Constant(0.5 * spacing);
   std::vector<std::uint8_t> on(size_t(points.cols()), 0), past(size_t(points.cols()), 0);
@@ -270,8 +278,7 @@ std::optional<size_t> leaving_fewer_beyond(const std::vector<TemplateScaling>& t
 // template's ends): the low and high end of the first axis, then of the second and the third.
 std::array<double, 6> shares_past_ends(const Eigen::Matrix3Xd& points, const TemplateScaling& s,
                                        const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
-  const Eigen::Vector3d along = s.axes.transpose() * s.shift;
-  const Eigen::Vector3d low_end = s.scale.cwiseProduct(low) + along, high_end = s.scale.cwiseProduct(high) + along;
+  const auto [low_end, high_end] = scaled_ends(s, low, high);
   const Eigen::Matrix3Xd u = s.axes.transpose() * (points.colwise() - s.centre);
   std::array<double, 6> past{};
   for (int k = 0; k < 3; ++k) {

@@ -51,10 +51,11 @@ TemplateScaling scaling_that_fits(const Eigen::Matrix3Xd& points, const PointSet
 // a spread of its own (not a square box's sides, not a disk's radius) up about either end of it, which stays, where a
 // hundredth of `points` runs on past the other end (a scan sunk in the box that bounds it, the scanned pillar's panels,
 // lays more of itself on that box shrunk, or stretched along its height, and is not drawn at another size): of the
-// trials of scaling_that_fits over every such axis and end, one laying more of `points` on (as scaling_that_fits
-// chooses, and then leaving fewest past the ends at all), else one laying as many on and leaving a hundredth fewer
-// past the ends at all (the scan runs on past the end only as relief standing out of the template: a crate's frames,
-// seen from below). Up to four steps, the last end moved staying (a box drawn short at both ends), then
+// trials of scaling_that_fits over every such axis and end, where the best of them lays a hundredth more of `points`
+// on, the least-moving of those laying as many as it and leaving fewest past the ends at all (a scan seen nearly level
+// lays as much on at any scale past its end, give or take its noise), else one laying as many on and leaving a
+// hundredth fewer past the ends at all (the scan runs on past the end only as relief standing out of the template: a
+// crate's frames, seen from below). Up to four steps, the last end moved staying (a box drawn short at both ends), then
 // scaling_that_fits's descent from there, scaling up only; no scaling where no end alone gains. The full search from no
 // scaling also scales a disk radially onto a gear's teeth; a disk's one axis of its own is its thickness, which the
 // teeth share.
