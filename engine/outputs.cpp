@@ -174,6 +174,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
   report["synthesis"] = {{"samples", syn.points.size()},
                          {"patches", syn.patches.size()},
                          {"gap_copies", syn.gap_copies},
+                         {"off_profile_uncopied", syn.off_profile},
                          {"filled_patches", syn.filled_patches},
                          {"seam_pairs", al.seam_pairs},
                          {"seam_gap_before", al.gap_before},

@@ -604,6 +604,10 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
     const std::optional<TurningPart> mirror_axis =
         principal ? std::optional<TurningPart>(TurningPart{principal->centre, principal->direction}) : std::nullopt;
     const CorrespondResult& map = correspondence->map;
+    const std::optional<RadialProfile> profile = coverage ? scan_profile(v) : std::nullopt;
+    const std::vector<std::uint8_t> off_profile =
+        profile ? walls_off_the_profile(*profile, v.target()->features.points, v.spacing())
+                : std::vector<std::uint8_t>{};
     const SynthesisInputs in{correspondence->exemplar->features.points,
                              map.rigid,
                              map.exemplar_source,
@@ -616,13 +620,18 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              &parts,
                              mirror_axis ? &*mirror_axis : nullptr,
                              coverage && (!state.config.correspond.rigid || map.kept_input_pose || map.turned_in_place),
-                             coverage ? std::optional<Eigen::Vector3d>(analogy->supports->up) : std::nullopt};
+                             coverage ? std::optional<Eigen::Vector3d>(analogy->supports->up) : std::nullopt,
+                             profile ? &off_profile : nullptr};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];
     node_logger("synthesize")
         ->info("{} patches: {} exemplar, {} synthesised, {} copied samples ({} where no patch reached)",
                out->synthesis.patches.size(), by_origin[0], by_origin[1], by_origin[2], out->synthesis.gap_copies);
+    if (out->synthesis.off_profile > 0)
+      node_logger("synthesize")
+          ->info("{} template samples not copied: the scan's radii about the template's axis put its wall elsewhere",
+                 out->synthesis.off_profile);
     return SynthesizedPtr(std::move(out));
   });
 }

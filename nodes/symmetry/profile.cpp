@@ -8,9 +8,13 @@ namespace scanfill {
 
 namespace {
 
-constexpr Index kBandSamples = 8;     // a band's radius needs at least this many samples
-constexpr double kOutward = 0.7;      // a sample counts when its normal lies within 45 degrees of straight out
-constexpr Index kMostBands = 100000;  // more bands than this: no profile
+constexpr Index kBandSamples = 8;         // a band's radius needs at least this many samples
+constexpr double kOutward = 0.7;          // a sample counts when its normal lies within 45 degrees of straight out
+constexpr Index kMostBands = 100000;      // more bands than this: no profile
+constexpr double kOffProfile = 0.15;      // walls_off_the_profile: share of the template's radius
+constexpr double kOffProfileLeast = 4.0;  // ... and at least this many alpha
+constexpr double kOtherProfile = 0.5;     // of_another_profile: share of the judged samples off
+constexpr int kNearBands = 5;             // ... judged by the nearest band holding a radius within so many bands
 
 double lower_quartile_of(std::vector<double>& v) {
   const auto at = v.begin() + Index(v.size()) / 4;
@@ -23,6 +27,36 @@ double radius_at(const RadialProfile& p, double height) {
   const double b = std::floor((height - p.lowest) / p.band);
   if (!(b >= 0 && b < double(p.radius.size()))) return std::numeric_limits<double>::quiet_NaN();
   return p.radius[std::size_t(b)];
+}
+
+// The radius of the band nearest `height` that holds one, within kNearBands bands of its own; NaN where none does.
+double radius_near(const RadialProfile& p, double height) {
+  for (int k = 0; k <= 2 * kNearBands; ++k) {
+    const double offset = (k % 2 == 0 ? 1 : -1) * double((k + 1) / 2);
+    if (const double r = radius_at(p, height + offset * p.band); !std::isnan(r)) return r;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+enum Judgement { kUnjudged, kOn, kOff };
+
+// Target sample t against the profile: unjudged where no band near its height holds a radius (or without normals);
+// off where it lies on a wall off its own band's radius, or outside that radius or the nearest band's, by more than
+// kOffProfile of its own radius and kOffProfileLeast alpha. Beyond the bands the scan's walls fill, the object may
+// narrow or widen; only a template standing far outside the nearest is judged (a vase's foot unseen from above lies
+// inside its belly's radius, and is its foot).
+Judgement judged(const RadialProfile& profile, const PointSet& target, Index t, double spacing) {
+  if (profile.radius.empty() || !target.has_normals()) return kUnjudged;
+  const Eigen::Vector3d& d = profile.axis.direction;
+  const Eigen::Vector3d x = target.positions().col(t) - profile.axis.centre;
+  const double h = d.dot(x);
+  const Eigen::Vector3d across = x - d * h;
+  const double r = across.norm();
+  const double own = radius_at(profile, h), seen = std::isnan(own) ? radius_near(profile, h) : own;
+  if (std::isnan(seen)) return kUnjudged;
+  const double tolerance = std::max(kOffProfile * r, kOffProfileLeast * spacing);
+  const bool wall = !std::isnan(own) && target.normals().col(t).dot(across) > kOutward * r;
+  return (wall ? std::abs(r - seen) > tolerance : r > seen + tolerance) ? kOff : kOn;
 }
 
 }  // namespace
@@ -72,6 +106,26 @@ bool profile_refutes(const RadialProfile& profile, const Similarity& q, double t
     disagreeing += std::abs(r / q.scale - profile.radius[b]) > tolerance;
   }
   return compared >= 3 && 4 * disagreeing >= compared;
+}
+
+std::vector<std::uint8_t> walls_off_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
+  std::vector<std::uint8_t> off(std::size_t(target.size()), 0);
+  for (Index t = 0; t < target.size(); ++t) off[std::size_t(t)] = judged(profile, target, t, spacing) == kOff;
+  return off;
+}
+
+bool of_another_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
+  return share_off_the_profile(profile, target, spacing) >= kOtherProfile;
+}
+
+double share_off_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
+  Index judged_samples = 0, off = 0;
+  for (Index t = 0; t < target.size(); ++t) {
+    const Judgement j = judged(profile, target, t, spacing);
+    judged_samples += j != kUnjudged;
+    off += j == kOff;
+  }
+  return judged_samples == 0 ? 0.0 : double(off) / double(judged_samples);
 }
 
 }  // namespace scanfill

@@ -1796,6 +1796,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
     if (covered(t)) continue;
     const bool self = in.labels[size_t(t)] == in.self_label;
     if (!self && (overlaid[size_t(t)] == kUnder || (reached[size_t(t)] && overlaid[size_t(t)] == kOver))) continue;
+    if (in.off_profile && (*in.off_profile)[size_t(t)] != 0) {
+      ++out.off_profile;
+      continue;
+    }
     if (!self) ++out.gap_copies;
     b.add(T.positions().col(t), T.normals().col(t), Origin::kTarget, in.self_label, self_patch, int(t), false);
   }

@@ -65,6 +65,36 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   out.points.check();
 }
 
+// A template the scan's own radii put elsewhere is not copied where nothing reached it (SynthesisInputs.off_profile):
+// the exemplar is a square's right half, every target sample takes the identity, and the left half, which nothing of
+// the exemplar reaches, is copied plain, but for the strip flagged off the profile, counted instead.
+TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileIsNotCopied) {
+  PointSet square = transformed(make_plane(1.0, 40), {Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1});
+  square.set_normals(Eigen::Matrix3Xd::Zero(3, square.size()).colwise() + Eigen::Vector3d::UnitZ());
+  std::vector<std::int32_t> right;
+  for (Index i = 0; i < square.size(); ++i)
+    if (square.positions()(0, i) > 0.5) right.push_back(std::int32_t(i));
+  const PointSet E = subset(square, right), &S = square, &T = square;
+  const double alpha = 1.0 / 40;
+  const std::vector<int> labels(size_t(T.size()), 0);
+  const std::vector<Similarity> transforms{Similarity{}};
+  std::vector<std::uint8_t> off(size_t(T.size()), 0);
+  Index flagged = 0;
+  for (Index t = 0; t < T.size(); ++t) flagged += off[size_t(t)] = T.positions()(0, t) < 0.2;
+  SynthesisOptions so;
+  so.refine_iterations = 0;
+  const Synthesis all = synthesize({E, Similarity{}, right, S, T, labels, 1, transforms, nullptr}, alpha, so);
+  const Synthesis some = synthesize(
+      {E, Similarity{}, right, S, T, labels, 1, transforms, nullptr, nullptr, nullptr, false, std::nullopt, &off},
+      alpha, so);
+  EXPECT_GT(all.gap_copies, flagged);
+  EXPECT_EQ(all.off_profile, 0);
+  EXPECT_EQ(some.off_profile, flagged);
+  EXPECT_EQ(some.gap_copies, all.gap_copies - flagged);
+  for (Index i = 0; i < some.points.size(); ++i)
+    if (some.origin[size_t(i)] == Origin::kTarget) EXPECT_GE(some.points.positions()(0, i), 0.2);
+}
+
 // A hole: the exemplar is a square's right half; the left half's region takes the identity, which lands on nothing of
 // the exemplar, and a strip at its edge takes a shift by half the square. That shift's image fills the hole before
 // anything is copied plain from the target (issue 10: coverage before copies).
