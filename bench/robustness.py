@@ -94,6 +94,15 @@ REAL_Y_UP = [
     ("real y-up: teapot", "teapot.obj", "revolution:"),
 ]
 
+# Real round models in the plain closed cylinder a user might draw about them (stop 73): 24 sides, the model's
+# bounding-box height about its up axis, its radius the mean of the box's half-widths across it (cylinder_of). Not the
+# object's profile: a vase's neck and belly lie well inside or outside it. (shape, file under ../shared/data/models, up)
+ROUND_IN_CYLINDER = [
+    ("real: Vase-Lion, a plain 24-sided cylinder", "vaselion.obj", "z"),
+    ("real y-up: vase (text2mesh), a plain 24-sided cylinder", "text2mesh_vase.obj", "y"),
+    ("real y-up: candle (text2mesh), a plain 24-sided cylinder", "text2mesh_candle.obj", "y"),
+]
+
 # A user with only the scan: its own body of revolution as template (`revolution:` of the scan file; SCAN stands for
 # it). (shape, model, up): the model under ../shared/data/models unless procedural. The procedural vase has a
 # regression floor (REGRESSION_MEANS); from below its scan sees too little height for the issue's floors.
@@ -150,6 +159,34 @@ def eye_for(bbox, view, up="z"):
     return centre, [c + 2.6 * diag * x / n for c, x in zip(centre, d)]
 
 
+def cylinder_of(exe, model, up, work):
+    """ROUND_IN_CYLINDER's template for `model` (an OBJ under `work`): a closed 24-sided cylinder about its up axis
+    (z or y), its faces wound outwards."""
+    lo, hi = bbox_of(exe, model, work)
+    axis, across = (2, (0, 1)) if up == "z" else (1, (2, 0))  # across[0] x across[1] = the up axis
+    centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+    r = sum(hi[k] - lo[k] for k in across) / 4
+    verts = []
+    for i in range(24):
+        for end in (lo[axis], hi[axis]):
+            p = list(centre)
+            p[across[0]] += r * math.cos(2 * math.pi * i / 24)
+            p[across[1]] += r * math.sin(2 * math.pi * i / 24)
+            p[axis] = end
+            verts.append(p)
+    for end in (lo[axis], hi[axis]):
+        verts.append([end if k == axis else centre[k] for k in range(3)])
+    faces = []
+    for i in range(24):
+        i0, i1, j0, j1 = 2 * i + 1, 2 * i + 2, 2 * ((i + 1) % 24) + 1, 2 * ((i + 1) % 24) + 2
+        faces += [(i0, j0, j1), (i0, j1, i1), (49, j0, i0), (50, i1, j1)]
+    path = os.path.join(work, os.path.splitext(os.path.basename(model))[0] + "_cylinder24.obj")
+    with open(path, "w") as f:
+        f.writelines(f"v {p[0]:.6f} {p[1]:.6f} {p[2]:.6f}\n" for p in verts)
+        f.writelines(f"f {a} {b} {c}\n" for a, b, c in faces)
+    return path
+
+
 def yaml_list(v):
     return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
 
@@ -167,6 +204,8 @@ def completion_case(exe, work, shape, model, template, view, preset, up="z", noi
          ",".join(map(str, centre)), "--resolution", f"{resolution},{resolution}", "--fov", "30"] + sensor)
     if template == "revolution:SCAN":
         template = "revolution:" + scan
+    if template == "CYLINDER":
+        template = cylinder_of(exe, model, up, work)
     cfg = os.path.join(d, "config.yaml")
     with open(cfg, "w") as f:
         f.write(f"mode: completion\ninputs:\n  scan: {scan}\n  template: {template}\noutput:\n  dir: {d}/out\n"
@@ -269,6 +308,9 @@ def real_and_transfer_cases():
             model = os.path.join(DATA, "models", file)
             for view in VIEWS:
                 cases.append(("completion", shape, model, kind + model, view, "y"))
+        for shape, file, up in ROUND_IN_CYLINDER:
+            for view in VIEWS:
+                cases.append(("completion", shape, os.path.join(DATA, "models", file), "CYLINDER", view, up))
     for shape, file, up in OWN_SCAN:
         model = file if file.startswith("procedural:") else os.path.join(DATA, "models", file)
         if os.path.exists(model) or file.startswith("procedural:"):
