@@ -606,8 +606,7 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
     const CorrespondResult& map = correspondence->map;
     const std::optional<RadialProfile> profile = coverage ? scan_profile(v) : std::nullopt;
     const std::vector<std::uint8_t> off_profile =
-        profile ? walls_off_the_profile(*profile, v.target()->features.points, v.spacing())
-                : std::vector<std::uint8_t>{};
+        profile ? outside_the_profile(*profile, v.target()->features.points, v.spacing()) : std::vector<std::uint8_t>{};
     const SynthesisInputs in{correspondence->exemplar->features.points,
                              map.rigid,
                              map.exemplar_source,

@@ -11,10 +11,10 @@ namespace {
 constexpr Index kBandSamples = 8;         // a band's radius needs at least this many samples
 constexpr double kOutward = 0.7;          // a sample counts when its normal lies within 45 degrees of straight out
 constexpr Index kMostBands = 100000;      // more bands than this: no profile
-constexpr double kOffProfile = 0.15;      // walls_off_the_profile: share of the template's radius
+constexpr double kOffProfile = 0.15;      // outside_the_profile: share of the template's radius
 constexpr double kOffProfileLeast = 4.0;  // ... and at least this many alpha
 constexpr double kOtherProfile = 0.5;     // of_another_profile: share of the judged samples off
-constexpr int kNearBands = 5;             // ... judged by the nearest band holding a radius within so many bands
+constexpr int kNearBands = 5;             // ... and past the profile's ends by the end band, so many bands on
 
 double lower_quartile_of(std::vector<double>& v) {
   const auto at = v.begin() + Index(v.size()) / 4;
@@ -29,34 +29,35 @@ double radius_at(const RadialProfile& p, double height) {
   return p.radius[std::size_t(b)];
 }
 
-// The radius of the band nearest `height` that holds one, within kNearBands bands of its own; NaN where none does.
-double radius_near(const RadialProfile& p, double height) {
-  for (int k = 0; k <= 2 * kNearBands; ++k) {
-    const double offset = (k % 2 == 0 ? 1 : -1) * double((k + 1) / 2);
-    if (const double r = radius_at(p, height + offset * p.band); !std::isnan(r)) return r;
-  }
+// The profile's radius at `height`, or, beyond the first or last band that holds one by at most kNearBands bands,
+// that band's (a lip whose normals face up has no radius of its own); NaN elsewhere. Between the ends a band without
+// one is not filled from its neighbours: a vase's foot seen below its hidden underside is no radius for the body above.
+double radius_at_or_past_the_ends(const RadialProfile& p, double height) {
+  if (const double own = radius_at(p, height); !std::isnan(own)) return own;
+  const auto held = [&](double r) { return !std::isnan(r); };
+  const auto first = std::find_if(p.radius.begin(), p.radius.end(), held);
+  if (first == p.radius.end()) return std::numeric_limits<double>::quiet_NaN();
+  const auto last = std::find_if(p.radius.rbegin(), p.radius.rend(), held);
+  const double b = std::floor((height - p.lowest) / p.band);
+  const double before = double(first - p.radius.begin()) - b, after = b - double(p.radius.rend() - last - 1);
+  if (before > 0 && before <= kNearBands) return *first;
+  if (after > 0 && after <= kNearBands) return *last;
   return std::numeric_limits<double>::quiet_NaN();
 }
 
 enum Judgement { kUnjudged, kOn, kOff };
 
-// Target sample t against the profile: unjudged where no band near its height holds a radius (or without normals);
-// off where it lies on a wall off its own band's radius, or outside that radius or the nearest band's, by more than
-// kOffProfile of its own radius and kOffProfileLeast alpha. Beyond the bands the scan's walls fill, the object may
-// narrow or widen; only a template standing far outside the nearest is judged (a vase's foot unseen from above lies
-// inside its belly's radius, and is its foot).
+// Target sample t against the profile: unjudged where radius_at_or_past_the_ends has none (or without normals); off
+// where it lies outside that radius by more than kOffProfile of its own distance from the axis and
+// kOffProfileLeast alpha. Inside it is not judged: relief standing out of the body (a teapot's spout and handle, seen
+// from below where the body's own wall is hidden) raises a band's radius.
 Judgement judged(const RadialProfile& profile, const PointSet& target, Index t, double spacing) {
   if (profile.radius.empty() || !target.has_normals()) return kUnjudged;
   const Eigen::Vector3d& d = profile.axis.direction;
   const Eigen::Vector3d x = target.positions().col(t) - profile.axis.centre;
-  const double h = d.dot(x);
-  const Eigen::Vector3d across = x - d * h;
-  const double r = across.norm();
-  const double own = radius_at(profile, h), seen = std::isnan(own) ? radius_near(profile, h) : own;
+  const double r = (x - d * d.dot(x)).norm(), seen = radius_at_or_past_the_ends(profile, d.dot(x));
   if (std::isnan(seen)) return kUnjudged;
-  const double tolerance = std::max(kOffProfile * r, kOffProfileLeast * spacing);
-  const bool wall = !std::isnan(own) && target.normals().col(t).dot(across) > kOutward * r;
-  return (wall ? std::abs(r - seen) > tolerance : r > seen + tolerance) ? kOff : kOn;
+  return r > seen + std::max(kOffProfile * r, kOffProfileLeast * spacing) ? kOff : kOn;
 }
 
 }  // namespace
@@ -108,7 +109,7 @@ bool profile_refutes(const RadialProfile& profile, const Similarity& q, double t
   return compared >= 3 && 4 * disagreeing >= compared;
 }
 
-std::vector<std::uint8_t> walls_off_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
+std::vector<std::uint8_t> outside_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
   std::vector<std::uint8_t> off(std::size_t(target.size()), 0);
   for (Index t = 0; t < target.size(); ++t) off[std::size_t(t)] = judged(profile, target, t, spacing) == kOff;
   return off;

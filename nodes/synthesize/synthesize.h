@@ -13,8 +13,8 @@
 // sample lands within `gap_distance` of it or no output point lies over it (within `overlay_distance` across its
 // normal and `gap_distance` along it), but not where the output points near its plane stand off it in relief (a
 // gear's teeth stand 4 alpha off its plain disk) or a relief facing its way lies sunk under it (up to three times
-// `gap_distance`: a real pillar's panels behind its bounding box), nor on a round template's wall where the scan's own
-// radii put the object's wall elsewhere (`off_profile`). Reaching is judged where the carried samples'
+// `gap_distance`: a real pillar's panels behind its bounding box), nor where a round template stands outside the scan's
+// own radii about its axis (`off_profile`). Reaching is judged where the carried samples'
 // source samples land, on the template, not where their relief does.
 //
 // The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
@@ -73,7 +73,7 @@ struct Synthesis {
   std::vector<std::uint8_t> ring;   // per point: 1 when it lies on its region's extension ring
   std::vector<Patch> patches;
   Index gap_copies = 0;                // target samples copied because no patch reached them
-  Index off_profile = 0;               // target samples not copied: the scan's profile puts the wall elsewhere
+  Index off_profile = 0;               // target samples not copied: outside the scan's own radii about the axis
   Index filled_patches = 0;            // patches that filled holes of other regions' images (fill_holes)
   std::vector<double> refinement_deg;  // per transform label: rotation of its refinement (0 if unrefined/unused)
   // Per transform label: 1 where the template pins its refinement (one of the template's own symmetries, on a scan the
@@ -112,8 +112,8 @@ struct SynthesisInputs {
   // Completion: the object's up (support's). A flip that turns it end over end on a region without slippable motion
   // (a prism's back and floor) is pinned to the template by its free fit, as a flip across the axis it turns about is.
   std::optional<Eigen::Vector3d> up = std::nullopt;
-  // Completion: target samples on a wall the scan's own profile about the template's axis puts elsewhere
-  // (walls_off_the_profile in nodes/symmetry/profile.h): never copied, as the template is not the object there.
+  // Completion: target samples standing outside the scan's own radii about the template's axis (outside_the_profile in
+  // nodes/symmetry/profile.h): never copied, as the template is not the object there.
   const std::vector<std::uint8_t>* off_profile = nullptr;
 };
 
