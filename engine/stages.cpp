@@ -629,7 +629,7 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                out->synthesis.patches.size(), by_origin[0], by_origin[1], by_origin[2], out->synthesis.gap_copies);
     if (out->synthesis.off_profile > 0)
       node_logger("synthesize")
-          ->info("{} template samples not copied: the scan's radii about the template's axis put its wall elsewhere",
+          ->info("{} template samples not copied: they stand outside the scan's own radii about the template's axis",
                  out->synthesis.off_profile);
     return SynthesizedPtr(std::move(out));
   });

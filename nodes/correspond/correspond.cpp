@@ -274,12 +274,12 @@ bool pulled_by_relief_about_a_round_template(const PointSet& exemplar, const Poi
 // bulging and its neck narrow, 77-85% of the scan inside the cylinder as given): ICP balances the scan across the
 // cylinder's wall, tilting its axis 14 degrees and moving it 7-19 cm, and every image turned about the template's axis
 // then stands askew (F 0.37-0.60, under the scan alone's 0.57-0.64). A pose that tilts the template's axis beyond
-// kTilted yet lays no more of the scan on the template than its own pose does (within kTiltGain), where most of the
-// template's wall lies off the scan's own radii about its axis as given (of_another_profile),
-// is no registration: the scan keeps its own pose (F 0.49-0.68). Seen from below, ICP lays the vase's foot on the
-// cylinder's floor (3.5% of it on as given, 32% registered), and its pose stands. On its own body of revolution, the
-// Vase-Lion seen from below is tilted 7 degrees by ICP for under 1% more of it on, and its images serve better so
-// (F 0.610; 0.573 in its own pose): that body lies on the scan's radii.
+// kTilted yet lays no more of the scan on the template than its own pose does (within kTiltGain), where half the
+// template or more stands outside the scan's own radii about its axis as given (of_another_profile), is no
+// registration: the scan keeps its own pose (F 0.49-0.68). Seen from below, ICP lays the vase's foot on the cylinder's
+// floor (3.5% of it on as given, 32% registered), and its pose stands. On its own body of revolution, the Vase-Lion
+// seen from below is tilted 7 degrees by ICP for under 1% more of it on, and its images serve better so (F 0.610;
+// 0.573 in its own pose): that body lies on the scan's radii.
 constexpr double kTilted = 3.0 * M_PI / 180;  // as onto_template_axis's kAxisTurn
 constexpr double kTiltGain = 0.03;
 

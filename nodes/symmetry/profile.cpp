@@ -47,12 +47,12 @@ double radius_at_or_past_the_ends(const RadialProfile& p, double height) {
 
 enum Judgement { kUnjudged, kOn, kOff };
 
-// Target sample t against the profile: unjudged where radius_at_or_past_the_ends has none (or without normals); off
-// where it lies outside that radius by more than kOffProfile of its own distance from the axis and
+// Target sample t against the profile: unjudged where radius_at_or_past_the_ends has none; off where it lies outside
+// that radius by more than kOffProfile of its own distance from the axis and
 // kOffProfileLeast alpha. Inside it is not judged: relief standing out of the body (a teapot's spout and handle, seen
 // from below where the body's own wall is hidden) raises a band's radius.
 Judgement judged(const RadialProfile& profile, const PointSet& target, Index t, double spacing) {
-  if (profile.radius.empty() || !target.has_normals()) return kUnjudged;
+  if (profile.radius.empty()) return kUnjudged;
   const Eigen::Vector3d& d = profile.axis.direction;
   const Eigen::Vector3d x = target.positions().col(t) - profile.axis.centre;
   const double r = (x - d * d.dot(x)).norm(), seen = radius_at_or_past_the_ends(profile, d.dot(x));

@@ -46,12 +46,11 @@ bool profile_refutes(const RadialProfile& profile, const Similarity& q, double t
 // Per target sample (the template's, in the profile's frame), 1 where the profile puts the object's surface inside it:
 // the sample lies outside the radius of its height's band (or, past the profile's ends by at most 5 bands, 10 alpha,
 // the end band's: a lip whose normals face up has none) by more than 15% of its own distance from the axis and 4
-// alpha. A plain
-// cylinder drawn about a vase with a narrow neck (the text2mesh vase's neck 0.6-1.0 from the axis, in a cylinder of
-// radius 3.45) is not the object around the neck, nor is its lid, and a copy of them is no completion. A template
-// inside the radius is not judged: relief standing out of the body (a teapot's spout and handle) raises it. A
-// template of the object's profile lies within 3% of the scan's radii (the fluted column's cylinders, the vase's body
-// of revolution), a gear's disk within 6.3% (its teeth).
+// alpha. A plain cylinder drawn about a vase with a narrow neck (the text2mesh vase's neck 0.6-1.0 from the axis, in a
+// cylinder of radius 3.45) is not the object around the neck, nor is its lid, and a copy of them is no completion. A
+// template inside the radius is not judged: relief standing out of the body (a teapot's spout and handle) raises it.
+// A template of the object's profile lies within 3% of the scan's radii (the fluted column's cylinders, the vase's
+// body of revolution), a gear's disk within 6.3% (its teeth).
 std::vector<std::uint8_t> outside_the_profile(const RadialProfile& profile, const PointSet& target, double spacing);
 
 // Of the target samples outside_the_profile judges, the share it finds off; 0 where it judges none.

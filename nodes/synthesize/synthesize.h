@@ -13,9 +13,9 @@
 // sample lands within `gap_distance` of it or no output point lies over it (within `overlay_distance` across its
 // normal and `gap_distance` along it), but not where the output points near its plane stand off it in relief (a
 // gear's teeth stand 4 alpha off its plain disk) or a relief facing its way lies sunk under it (up to three times
-// `gap_distance`: a real pillar's panels behind its bounding box), nor where a round template stands outside the scan's
-// own radii about its axis (`off_profile`). Reaching is judged where the carried samples'
-// source samples land, on the template, not where their relief does.
+// `gap_distance`: a real pillar's panels behind its bounding box), nor where a round template stands outside the
+// scan's own radii about its axis (`off_profile`). Reaching is judged where the carried samples' source samples land,
+// on the template, not where their relief does.
 //
 // The template alone cannot fix every transform: on a body of revolution any rotation about its axis explains it,
 // but the exemplar's detail (flutes, beads) repeats only at some angles. So, before carrying the exemplar, each
