@@ -65,16 +65,32 @@ TEST(SynthesizeTransfer, ATranslatedRegionGetsTheExemplarAtFullResolution) {
   out.points.check();
 }
 
+// The unit square [0, 1]^2 at z = 0, facing +z, 40 segments a side, and its right half (x > 0.5) as the exemplar.
+struct HalfSquare {
+  PointSet square =
+      facing_up(transformed(make_plane(1.0, 40), {Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1}));
+  std::vector<std::int32_t> right = right_of(square, 0.5);
+  PointSet exemplar = subset(square, right);
+
+  static PointSet facing_up(PointSet p) {
+    p.set_normals(Eigen::Matrix3Xd::Zero(3, p.size()).colwise() + Eigen::Vector3d::UnitZ());
+    return p;
+  }
+  static std::vector<std::int32_t> right_of(const PointSet& p, double x) {
+    std::vector<std::int32_t> out;
+    for (Index i = 0; i < p.size(); ++i)
+      if (p.positions()(0, i) > x) out.push_back(std::int32_t(i));
+    return out;
+  }
+};
+
 // A template the scan's own radii put elsewhere is not copied where nothing reached it (SynthesisInputs.off_profile):
 // the exemplar is a square's right half, every target sample takes the identity, and the left half, which nothing of
 // the exemplar reaches, is copied plain, but for the strip flagged off the profile, counted instead.
 TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileIsNotCopied) {
-  PointSet square = transformed(make_plane(1.0, 40), {Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1});
-  square.set_normals(Eigen::Matrix3Xd::Zero(3, square.size()).colwise() + Eigen::Vector3d::UnitZ());
-  std::vector<std::int32_t> right;
-  for (Index i = 0; i < square.size(); ++i)
-    if (square.positions()(0, i) > 0.5) right.push_back(std::int32_t(i));
-  const PointSet E = subset(square, right), &S = square, &T = square;
+  const HalfSquare h;
+  const PointSet &E = h.exemplar, &S = h.square, &T = h.square;
+  const std::vector<std::int32_t>& right = h.right;
   const double alpha = 1.0 / 40;
   const std::vector<int> labels(size_t(T.size()), 0);
   const std::vector<Similarity> transforms{Similarity{}};
@@ -99,12 +115,9 @@ TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileIsNotCopied) {
 // the exemplar, and a strip at its edge takes a shift by half the square. That shift's image fills the hole before
 // anything is copied plain from the target (issue 10: coverage before copies).
 TEST(SynthesizeTransfer, AnotherRegionsTransformFillsAHoleBeforeTheTargetIsCopied) {
-  PointSet square = transformed(make_plane(1.0, 40), {Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0.5, 0), 1});
-  square.set_normals(Eigen::Matrix3Xd::Zero(3, square.size()).colwise() + Eigen::Vector3d::UnitZ());
-  std::vector<std::int32_t> right;
-  for (Index i = 0; i < square.size(); ++i)
-    if (square.positions()(0, i) > 0.5) right.push_back(std::int32_t(i));
-  const PointSet E = subset(square, right), &S = square, &T = square;
+  const HalfSquare h;
+  const PointSet &E = h.exemplar, &S = h.square, &T = h.square;
+  const std::vector<std::int32_t>& right = h.right;
   const double alpha = 1.0 / 40;
   std::vector<int> labels;
   for (Index t = 0; t < T.size(); ++t) labels.push_back(T.positions()(0, t) < 0.1 ? 1 : 0);
