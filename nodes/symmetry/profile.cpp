@@ -29,19 +29,30 @@ double radius_at(const RadialProfile& p, double height) {
   return p.radius[std::size_t(b)];
 }
 
-// The profile's radius at `height`, or, beyond the first or last band that holds one by at most kNearBands bands,
-// that band's (a lip whose normals face up has no radius of its own); NaN elsewhere. Between the ends a band without
-// one is not filled from its neighbours: a vase's foot seen below its hidden underside is no radius for the body above.
-double radius_at_or_past_the_ends(const RadialProfile& p, double height) {
-  if (const double own = radius_at(p, height); !std::isnan(own)) return own;
-  const auto held = [&](double r) { return !std::isnan(r); };
+// The first and last bands of a profile that hold a radius; none where no band does.
+struct HeldBands {
+  std::ptrdiff_t first = 0, last = -1;
+};
+
+HeldBands held_bands(const RadialProfile& p) {
+  const auto held = [](double r) { return !std::isnan(r); };
   const auto first = std::find_if(p.radius.begin(), p.radius.end(), held);
-  if (first == p.radius.end()) return std::numeric_limits<double>::quiet_NaN();
+  if (first == p.radius.end()) return {};
   const auto last = std::find_if(p.radius.rbegin(), p.radius.rend(), held);
+  return {first - p.radius.begin(), p.radius.rend() - last - 1};
+}
+
+// The profile's radius at `height`, or, beyond the first or last band that holds one (`held`) by at most kNearBands
+// bands, that band's (a lip whose normals face up has no radius of its own); NaN elsewhere. Between the ends a band
+// without one is not filled from its neighbours: a vase's foot seen below its hidden underside is no radius for the
+// body above.
+double radius_at_or_past_the_ends(const RadialProfile& p, const HeldBands& held, double height) {
+  if (const double own = radius_at(p, height); !std::isnan(own)) return own;
+  if (held.last < held.first) return std::numeric_limits<double>::quiet_NaN();
   const double b = std::floor((height - p.lowest) / p.band);
-  const double before = double(first - p.radius.begin()) - b, after = b - double(p.radius.rend() - last - 1);
-  if (before > 0 && before <= kNearBands) return *first;
-  if (after > 0 && after <= kNearBands) return *last;
+  const double before = double(held.first) - b, after = b - double(held.last);
+  if (before > 0 && before <= kNearBands) return p.radius[std::size_t(held.first)];
+  if (after > 0 && after <= kNearBands) return p.radius[std::size_t(held.last)];
   return std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -51,11 +62,11 @@ enum Judgement { kUnjudged, kOn, kOff };
 // that radius by more than kOffProfile of its own distance from the axis and
 // kOffProfileLeast alpha. Inside it is not judged: relief standing out of the body (a teapot's spout and handle, seen
 // from below where the body's own wall is hidden) raises a band's radius.
-Judgement judged(const RadialProfile& profile, const PointSet& target, Index t, double spacing) {
+Judgement judged(const RadialProfile& profile, const HeldBands& held, const PointSet& target, Index t, double spacing) {
   if (profile.radius.empty()) return kUnjudged;
   const Eigen::Vector3d& d = profile.axis.direction;
   const Eigen::Vector3d x = target.positions().col(t) - profile.axis.centre;
-  const double r = (x - d * d.dot(x)).norm(), seen = radius_at_or_past_the_ends(profile, d.dot(x));
+  const double r = (x - d * d.dot(x)).norm(), seen = radius_at_or_past_the_ends(profile, held, d.dot(x));
   if (std::isnan(seen)) return kUnjudged;
   return r > seen + std::max(kOffProfile * r, kOffProfileLeast * spacing) ? kOff : kOn;
 }
@@ -111,7 +122,8 @@ bool profile_refutes(const RadialProfile& profile, const Similarity& q, double t
 
 std::vector<std::uint8_t> outside_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
   std::vector<std::uint8_t> off(std::size_t(target.size()), 0);
-  for (Index t = 0; t < target.size(); ++t) off[std::size_t(t)] = judged(profile, target, t, spacing) == kOff;
+  const HeldBands held = held_bands(profile);
+  for (Index t = 0; t < target.size(); ++t) off[std::size_t(t)] = judged(profile, held, target, t, spacing) == kOff;
   return off;
 }
 
@@ -121,8 +133,9 @@ bool of_another_profile(const RadialProfile& profile, const PointSet& target, do
 
 double share_off_the_profile(const RadialProfile& profile, const PointSet& target, double spacing) {
   Index judged_samples = 0, off = 0;
+  const HeldBands held = held_bands(profile);
   for (Index t = 0; t < target.size(); ++t) {
-    const Judgement j = judged(profile, target, t, spacing);
+    const Judgement j = judged(profile, held, target, t, spacing);
     judged_samples += j != kUnjudged;
     off += j == kOff;
   }
