@@ -1,6 +1,7 @@
 // PLY reader (Turk's format): ASCII, binary_little_endian and binary_big_endian; CRLF line endings; any elements.
 // Only vertex (x y z [nx ny nz | normal_x ...] [red green blue | diffuse_red ... | r g b] [intensity |
-// scalar_intensity]) and face (vertex_indices | vertex_index) are kept; other elements such as range_grid or camera
+// scalar_intensity]) and face (vertex_indices | vertex_index) are kept, and the first camera record's view_px view_py
+// view_pz (the sensor position, as PCL's PLY writer gives it) becomes the viewpoint; other elements such as range_grid
 // are read past. Colours of 8-bit types are kept as they are, 16-bit ones scaled by 1/257, other integers clamped to
 // [0, 255]; float colours are read as [0, 1] (scaled by 255) unless one exceeds 1, when the file is taken to hold
 // [0, 255] floats (with a warning).
@@ -134,10 +135,15 @@ double read_binary(const char* p, Type t, bool swap) {
   return 0;
 }
 
-// Where a vertex/face property goes: a slot of xyz (0-2), normals (3-5), the face list (6), colour (7-9), intensity
-// (10), or nowhere (-1).
-constexpr int kFaceSlot = 6, kColourSlot = 7, kIntensitySlot = 10, kValueSlots = 11;
+// Where a vertex/face/camera property goes: a slot of xyz (0-2), normals (3-5), the face list (6), colour (7-9),
+// intensity (10), the camera's position (11-13), or nowhere (-1).
+constexpr int kFaceSlot = 6, kColourSlot = 7, kIntensitySlot = 10, kViewSlot = 11, kValueSlots = 14;
 int slot_of(const std::string& element, const Property& p) {
+  if (element == "camera" && !p.is_list) {
+    static const char* kNames[] = {"view_px", "view_py", "view_pz"};
+    for (int k = 0; k < 3; ++k)
+      if (p.name == kNames[k]) return kViewSlot + k;
+  }
   if (element == "vertex" && !p.is_list) {
     static const char* kNames[][4] = {{"x"},
                                       {"y"},
@@ -150,7 +156,7 @@ int slot_of(const std::string& element, const Property& p) {
                                       {"green", "diffuse_green", "g"},
                                       {"blue", "diffuse_blue", "b"},
                                       {"intensity", "scalar_intensity", "scalar_Intensity", "Intensity"}};
-    for (int s = 0; s < kValueSlots; ++s)
+    for (int s = 0; s < int(std::size(kNames)); ++s)
       for (const char* name : kNames[s])
         if (name && p.name == name) return s;
   }
@@ -295,6 +301,17 @@ FileHeader read_ply_header(const std::filesystem::path& path) {
   return out;
 }
 
+namespace {
+
+// The sensor position a camera record holds (view_px, view_py, view_pz); a non-finite one is bad input.
+Eigen::Vector3d camera_position(const std::filesystem::path& path, const double* view) {
+  if (!std::isfinite(view[0]) || !std::isfinite(view[1]) || !std::isfinite(view[2]))
+    fail(path, "the camera's position (view_px, view_py, view_pz) is not finite");
+  return {view[0], view[1], view[2]};
+}
+
+}  // namespace
+
 RawMesh read_ply(const std::filesystem::path& path) {
   const std::string data = read_file(path);
   const PlyHeader header = parse_ply_header(path, data, data.size());
@@ -339,8 +356,11 @@ RawMesh read_ply(const std::filesystem::path& path) {
   for (const Element& e : elements) {
     const bool is_vertex = &e == vertex;
     const bool is_face = e.name == "face";
+    const bool is_camera = e.name == "camera";
     std::vector<int> slots;
-    for (const Property& prop : e.properties) slots.push_back(is_vertex || is_face ? slot_of(e.name, prop) : -1);
+    for (const Property& prop : e.properties)
+      slots.push_back(is_vertex || is_face || is_camera ? slot_of(e.name, prop) : -1);
+    const bool has_view = std::ranges::count_if(slots, [](int s) { return s >= kViewSlot; }) == 3;
     for (std::int64_t r = 0; r < e.count; ++r) {
       auto truncated = [&] {
         fail(path, "truncated: element '" + e.name + "' declares " + std::to_string(e.count) +
@@ -431,6 +451,7 @@ RawMesh read_ply(const std::filesystem::path& path) {
           }
         }
       }
+      if (is_camera && r == 0 && has_view) mesh.viewpoint = camera_position(path, values + kViewSlot);
     }
   }
   if (encoding == Encoding::kAscii) {

@@ -70,6 +70,7 @@ PlyLayout ply_layout(const PointSet& points, const std::vector<PlyProperty>& ext
   layout.intensity = points.has_intensity();
   for (const PlyProperty& p : extra) layout.extra.emplace_back(p.name, p.type);
   layout.real = real;
+  layout.viewpoint = points.viewpoint();
   return layout;
 }
 
@@ -90,6 +91,8 @@ std::string header_of(const PlyLayout& layout) {
   if (layout.colours) header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (layout.intensity) header << "property float intensity\n";
   if (layout.faces > 0) header << "element face " << layout.faces << "\nproperty list uchar int vertex_indices\n";
+  if (layout.viewpoint)
+    header << "element camera 1\nproperty float view_px\nproperty float view_py\nproperty float view_pz\n";
   header << "end_header\n";
   return header.str();
 }
@@ -225,6 +228,11 @@ void PlyWriter::commit() {
     throw InvariantError("write_ply: " + std::to_string(vertices_) + " vertices and " + std::to_string(faces_) +
                          " triangles written, " + std::to_string(layout_.vertices) + " and " +
                          std::to_string(layout_.faces) + " declared");
+  if (layout_.viewpoint) {
+    buf_.clear();
+    for (int k = 0; k < 3; ++k) put(buf_, float((*layout_.viewpoint)(k)));
+    out_.write(buf_.data(), std::streamsize(buf_.size()));
+  }
   out_.flush();
   if (!out_) throw IoError(path_.string() + ": write failed (disk full?)");
   out_.close();

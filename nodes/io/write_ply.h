@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,7 +29,8 @@ enum class PlyReal {
 };
 
 // Binary little-endian PLY: x y z, then nx ny nz, k1 k2, d1x d1y d1z when present, the extra properties, red green
-// blue (uchar) and intensity (float) when present, and the faces when present. Colours and intensity are written as
+// blue (uchar) and intensity (float) when present, the faces when present, and the point set's viewpoint as a camera
+// element when it has one. Colours and intensity are written as
 // stored whatever `real` is. Throws IoError naming the file on failure (and leaves no file); InvariantError when an
 // extra property repeats one of the point set's (colours are set on the point set).
 void write_ply(const std::filesystem::path& path, const PointSet& points, const std::vector<PlyProperty>& extra = {},
@@ -42,6 +44,9 @@ struct PlyLayout {
   bool normals = false, curvatures = false, directions = false, colours = false, intensity = false;
   std::vector<std::pair<std::string, PlyProperty::Type>> extra;  // after the directions, before the colours
   PlyReal real = PlyReal::kFloat32;
+  // The sensor position of a single-view scan: after the faces, one camera record (view_px view_py view_pz, floats),
+  // as PCL's PLY writer gives it.
+  std::optional<Eigen::Vector3d> viewpoint;
 };
 
 // A binary PLY written in pieces: the header first (the counts declared up front), then the vertices in any number of

@@ -29,6 +29,42 @@ TEST(WritePly, RoundTripsPositionsNormalsFacesAndProperties) {
   EXPECT_LT((r.points.normals() - mesh.normals()).cwiseAbs().maxCoeff(), 1e-6);
 }
 
+// A single-view scan keeps its sensor position through a PLY file: written as PCL writes it (a camera element after
+// the faces), and read from PCL's own file, whose camera record has 21 properties.
+TEST(WritePly, TheScannersPositionTravelsAsACameraElement) {
+  test::TempDir dir;
+  PointSet scan = make_plane(1.0, 3);
+  scan.set_viewpoint(Eigen::Vector3d(0.5, -2.25, 3.0));
+  write_ply(dir / "scan.ply", scan);
+  const std::string head = test::read_bytes(dir / "scan.ply").substr(0, 300);
+  EXPECT_NE(head.find("element camera 1\nproperty float view_px\n"), std::string::npos);
+  const LoadResult r = read_point_set(dir / "scan.ply", {.morton_sort = false});
+  ASSERT_TRUE(r.points.viewpoint().has_value());
+  EXPECT_EQ(*r.points.viewpoint(), Eigen::Vector3d(0.5, -2.25, 3.0));
+  EXPECT_EQ(r.points.size(), scan.size());
+
+  std::string pcl =
+      "ply\nformat ascii 1.0\ncomment PCL generated\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 0\nelement camera 1\n";
+  for (const char* name :
+       {"view_px", "view_py", "view_pz", "x_axisx", "x_axisy", "x_axisz", "y_axisx", "y_axisy", "y_axisz", "z_axisx",
+        "z_axisy", "z_axisz", "focal", "scalex", "scaley", "centerx", "centery"})
+    pcl += std::string("property float ") + name + "\n";
+  pcl += "property int viewportx\nproperty int viewporty\nproperty float k1\nproperty float k2\nend_header\n";
+  test::write_bytes(dir / "pcl.ply", pcl + "1 2 3\n4 5 6\n0.5 1.5 2.5 1 0 0 0 1 0 0 0 1 0 0 0 0 0 2 1 0 0\n");
+  const LoadResult p = read_point_set(dir / "pcl.ply", {.morton_sort = false});
+  ASSERT_TRUE(p.points.viewpoint().has_value());
+  EXPECT_EQ(*p.points.viewpoint(), Eigen::Vector3d(0.5, 1.5, 2.5));
+  test::write_bytes(dir / "nan.ply", pcl + "1 2 3\n4 5 6\nnan 1.5 2.5 1 0 0 0 1 0 0 0 1 0 0 0 0 0 2 1 0 0\n");
+  try {
+    read_point_set(dir / "nan.ply", {});
+    ADD_FAILURE() << "a camera at NaN was read";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("nan.ply"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("camera"), std::string::npos) << e.what();
+  }
+}
+
 TEST(WritePly, FailureLeavesNoFile) {
   test::TempDir dir;
   const PointSet p = make_plane(1.0, 2);
