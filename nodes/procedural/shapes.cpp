@@ -170,6 +170,38 @@ PointSet make_blob(int bumps, std::uint64_t seed, int segments) {
 PointSet make_vase(int flutes, int beads, int segments) {
   return vase(flutes, beads, segments, true);
 }
+PointSet make_cup(int segments) {
+  constexpr double kWall = 0.03, kFloor = 0.03;
+  const auto inner = [](double z) { return vase_profile(z) - kWall; };
+  const auto at = [](double r, double phi, double z) {
+    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  MeshBuilder m;
+  // The inner wall, turned to the axis (phi runs backwards), from the floor's top to the rim.
+  m.grid(
+      [&](double s, double t) {
+        const double z = kFloor + (1 - kFloor) * t;
+        return at(inner(z), -2 * M_PI * s, z);
+      },
+      segments, segments, true);
+  // The rim, facing up: from the outer wall's top in to the inner wall's.
+  m.grid([&](double s, double t) { return at((1 - t) * vase_profile(1.0) + t * inner(1.0), 2 * M_PI * s, 1.0); },
+         segments, 2, true);
+  // The floor's top (facing up) and its underside (facing down), each a fan about its centre.
+  const auto disk = [&](double r, double z, bool up) {
+    const int centre = int(m.v.size());
+    m.v.push_back(Eigen::Vector3d(0, 0, z));
+    for (int i = 0; i < segments; ++i) m.v.push_back(at(r, 2 * M_PI * i / segments, z));
+    for (int i = 0; i < segments; ++i) {
+      const int a = centre + 1 + i, b = centre + 1 + (i + 1) % segments;
+      m.f.emplace_back(centre, up ? a : b, up ? b : a);
+    }
+  };
+  disk(inner(kFloor), kFloor, true);
+  disk(vase_profile(0.0), 0.0, false);
+  return merged(make_vase(12, 16, segments), m.build());
+}
+
 PointSet make_vase_template(int segments) {
   return vase(0, 0, segments, false);
 }
@@ -945,6 +977,7 @@ const std::vector<std::string>& shape_names() {
                                "box",             "box_l",
                                "vase",            "vase_template",
                                "vase_cylinder",   "vase_cylinder6",
+                               "cup",
                                "column",          "column_template",
                                "gear",            "gear_template",
                                "table",           "table_template",
@@ -982,6 +1015,7 @@ PointSet make_shape(const std::string& name) {
   if (name == "vase") return make_vase();
   if (name == "vase_template") return make_vase_template();
   if (name == "vase_cylinder") return make_vase_cylinder();
+  if (name == "cup") return make_cup();
   if (name == "vase_cylinder6") return make_vase_cylinder(6);
   if (name == "column") return make_column();
   if (name == "column_template") return make_column_template();

@@ -22,6 +22,10 @@ PointSet make_cylinder(double radius, double height, int segments);
 // Ornamented vase, axis z, base at z = 0, height 1: a body of revolution with `flutes` vertical grooves, a rolled rim,
 // and a ring of `beads` spheres around the foot. The structure the analogy finds: repeated flutes and beads.
 PointSet make_vase(int flutes = 12, int beads = 16, int segments = 192);
+// The vase as a vessel: its ornamented outer wall, an inner wall 3 cm in (a plain body of revolution, faces turned to
+// the axis), a rim joining them at the top, a floor 3 cm thick closing the foot, and the beads. Seen from above, a
+// scanner sees its inside through the mouth, as it does a real vase's; the vase itself is one open sheet.
+PointSet make_cup(int segments = 192);
 // The vase's structural template: its body of revolution without flutes or beads.
 PointSet make_vase_template(int segments = 192);
 // The vase's plainest template: a closed cylinder of its height standing on z = 0, radius 0.33 (the vase's profile
