@@ -175,6 +175,7 @@ void write_output(const Transferred& t, nlohmann::json& report, RunOutcome& outc
                          {"patches", syn.patches.size()},
                          {"gap_copies", syn.gap_copies},
                          {"off_profile_uncopied", syn.off_profile},
+                         {"seen_through_uncopied", syn.seen_through},
                          {"filled_patches", syn.filled_patches},
                          {"seam_pairs", al.seam_pairs},
                          {"seam_gap_before", al.gap_before},

@@ -10,6 +10,7 @@
 #include "engine/fields.h"
 #include "engine/outputs.h"
 #include "nodes/core/errors.h"
+#include "nodes/correspond/free_space.h"
 #include "nodes/input/scan_alignment.h"
 #include "nodes/io/read_part_labels.h"
 #include "nodes/io/read_ply_chunks.h"
@@ -588,6 +589,16 @@ std::vector<TurningPart> turning_parts(const SymmetryResult& target, const Point
   return out;
 }
 
+namespace {
+
+// Completion: where the sensor stood, in the scan's frame: features.viewpoint when set, else the scan file's own (a
+// PCD's VIEWPOINT, a PLY's camera element, the virtual scanner's eye).
+std::optional<Eigen::Vector3d> scan_viewpoint(const RunConfig& config, const Featured& scan) {
+  return config.features.viewpoint ? config.features.viewpoint : scan.sampled->loaded->load.points.viewpoint();
+}
+
+}  // namespace
+
 SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& correspondence, const LabelledPtr& analogy,
                                 const CoveragePtr& coverage) {
   return run_node(state, "synthesize", "", [&](const ProgressFn&) {
@@ -607,6 +618,12 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
     const std::optional<RadialProfile> profile = coverage ? scan_profile(v) : std::nullopt;
     const std::vector<std::uint8_t> off_profile =
         profile ? outside_the_profile(*profile, v.target()->features.points, v.spacing()) : std::vector<std::uint8_t>{};
+    const std::optional<Eigen::Vector3d> eye = coverage && state.config.synthesize.seen_through
+                                                   ? scan_viewpoint(state.config, *correspondence->exemplar)
+                                                   : std::nullopt;
+    const std::vector<std::uint8_t> seen = eye ? seen_through(correspondence->exemplar->features.points, map.rigid,
+                                                              *eye, v.target()->features.points, v.spacing())
+                                               : std::vector<std::uint8_t>{};
     const SynthesisInputs in{correspondence->exemplar->features.points,
                              map.rigid,
                              map.exemplar_source,
@@ -620,7 +637,8 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                              mirror_axis ? &*mirror_axis : nullptr,
                              coverage && (!state.config.correspond.rigid || map.kept_input_pose || map.turned_in_place),
                              coverage ? std::optional<Eigen::Vector3d>(analogy->supports->up) : std::nullopt,
-                             profile ? &off_profile : nullptr};
+                             profile ? &off_profile : nullptr,
+                             eye ? &seen : nullptr};
     out->synthesis = synthesize(in, v.spacing(), state.config.synthesize);
     Index by_origin[3] = {0, 0, 0};
     for (const auto o : out->synthesis.origin) ++by_origin[int(o)];
@@ -631,6 +649,9 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
       node_logger("synthesize")
           ->info("{} template samples not copied: they stand outside the scan's own radii about the template's axis",
                  out->synthesis.off_profile);
+    if (out->synthesis.seen_through > 0)
+      node_logger("synthesize")
+          ->info("{} template samples not copied: the scanner saw the scan through them", out->synthesis.seen_through);
     return SynthesizedPtr(std::move(out));
   });
 }

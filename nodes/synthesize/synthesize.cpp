@@ -1800,6 +1800,10 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
       ++out.off_profile;
       continue;
     }
+    if (in.seen_through && (*in.seen_through)[size_t(t)] != 0) {
+      ++out.seen_through;
+      continue;
+    }
     if (!self) ++out.gap_copies;
     b.add(T.positions().col(t), T.normals().col(t), Origin::kTarget, in.self_label, self_patch, int(t), false);
   }

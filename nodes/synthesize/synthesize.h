@@ -62,6 +62,8 @@ struct SynthesisOptions {
   double search_distance = 15.0;  // slippable motions are searched this far (alpha) before ICP; >= 0
   bool repeats = true;            // completion: turn images to the exemplar's own repeats, and fill with its turns
   bool mirror = true;             // completion: the exemplar's mirror image about a plane through the template's axis
+  bool seen_through = true;       // completion: no copies where the scanner saw through the template (the engine
+                                  // judges it: SynthesisInputs::seen_through)
 };
 
 struct Synthesis {
@@ -74,6 +76,7 @@ struct Synthesis {
   std::vector<Patch> patches;
   Index gap_copies = 0;                // target samples copied because no patch reached them
   Index off_profile = 0;               // target samples not copied: outside the scan's own radii about the axis
+  Index seen_through = 0;              // target samples not copied: the scanner saw the scan through them
   Index filled_patches = 0;            // patches that filled holes of other regions' images (fill_holes)
   std::vector<double> refinement_deg;  // per transform label: rotation of its refinement (0 if unrefined/unused)
   // Per transform label: 1 where the template pins its refinement (one of the template's own symmetries, on a scan the
@@ -115,6 +118,9 @@ struct SynthesisInputs {
   // Completion: target samples standing outside the scan's own radii about the template's axis (outside_the_profile in
   // nodes/symmetry/profile.h): never copied, as the template is not the object there.
   const std::vector<std::uint8_t>* off_profile = nullptr;
+  // Completion: target samples the scanner saw the scan through (seen_through in nodes/correspond/free_space.h): never
+  // copied, as nothing stands there.
+  const std::vector<std::uint8_t>* seen_through = nullptr;
 };
 
 Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisOptions& options);

@@ -25,6 +25,10 @@ OptionTable option_table(SynthesisOptions& sy) {
         "completion: where the scan does not repeat about the template's axis but mirrors onto itself about a plane "
         "through it, its mirror image replaces the images where it lands",
         any()},
+       {"seen_through", &sy.seen_through,
+        "completion: the template is not copied where the scanner saw the scan through it (needs the sensor's "
+        "position: features.viewpoint, a PCD's VIEWPOINT or a PLY's camera element)",
+        any()},
        {"gap_distance", &sy.gap_distance,
         "a target sample no landed source sample or output point comes this close to (alpha, along its normal) is "
         "copied, but not over a relief that faces its way sunk up to three times this; > 0",
