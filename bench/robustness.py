@@ -77,10 +77,14 @@ COMPLETIONS = [
 # turn, completed with its own body of revolution (stop 49), whose medallions only quarter turns carry to its back. The
 # fluted column's octagon (vertices on its radius) was here from stop 57, where ICP pulled a scan seen square on a
 # corner into it, until stop 58 registered round scans on the body through its corners. The vase's hexagon (stop 59)
-# stands with its plain cylinder: its body's copied caps lie over the vase's open ends.
+# stands with its plain cylinder: its body's copied caps lie over the vase's open ends. The cup (stop 74) is the vase as a
+# vessel, whose inside a view from above sees through its mouth: the vase is one open sheet, and the virtual scanner keeps
+# only the faces turned to it, so the vase's inside (the backs of its faces) is never seen.
 BEYOND_FLOORS = [
     ("ribbed box, not square (box template)", "procedural:ribbed_box", ["procedural:ribbed_box_template"]),
     ("vase (plain cylinder template)", "procedural:vase", ["procedural:vase_cylinder", "procedural:vase_cylinder6"]),
+    ("cup: the vase with a wall and a floor (plain cylinder and body templates)", "procedural:cup",
+     ["procedural:vase_cylinder", "procedural:vase_template"]),
     ("medallion barrel (revolution: template)", "procedural:medallion_barrel",
      ["revolution:procedural:medallion_barrel"]),
 ]
