@@ -84,10 +84,11 @@ struct HalfSquare {
   }
 };
 
-// A template the scan's own radii put elsewhere is not copied where nothing reached it (SynthesisInputs.off_profile):
-// the exemplar is a square's right half, every target sample takes the identity, and the left half, which nothing of
-// the exemplar reaches, is copied plain, but for the strip flagged off the profile, counted instead.
-TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileIsNotCopied) {
+// A template the scan's own radii put elsewhere (SynthesisInputs.off_profile), or that the scanner saw through
+// (SynthesisInputs.seen_through), is not copied where nothing reached it: the exemplar is a square's right half, every
+// target sample takes the identity, and the left half, which nothing of the exemplar reaches, is copied plain, but for
+// the strip flagged, counted instead.
+TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileOrSeenThroughIsNotCopied) {
   const HalfSquare h;
   const PointSet &E = h.exemplar, &S = h.square, &T = h.square;
   const std::vector<std::int32_t>& right = h.right;
@@ -109,6 +110,13 @@ TEST(SynthesizeTransfer, ATargetSampleOffTheScansProfileIsNotCopied) {
   EXPECT_EQ(some.gap_copies, all.gap_copies - flagged);
   for (Index i = 0; i < some.points.size(); ++i)
     if (some.origin[size_t(i)] == Origin::kTarget) EXPECT_GE(some.points.positions()(0, i), 0.2);
+  const Synthesis seen = synthesize({E, Similarity{}, right, S, T, labels, 1, transforms, nullptr, nullptr, nullptr,
+                                     false, std::nullopt, nullptr, &off},
+                                    alpha, so);
+  EXPECT_EQ(all.seen_through, 0);
+  EXPECT_EQ(seen.seen_through, flagged);
+  EXPECT_EQ(seen.off_profile, 0);
+  EXPECT_EQ(seen.points.positions(), some.points.positions());
 }
 
 // A hole: the exemplar is a square's right half; the left half's region takes the identity, which lands on nothing of
