@@ -5,6 +5,7 @@ Run by ctest (tests/CMakeLists.txt), which sets PYTHONPATH to the module's folde
 Sizes are small (6000 samples, a 200 x 200 scan) so the whole file runs in well under a minute on 2 cores.
 """
 
+import itertools
 import os
 import pathlib
 import subprocess
@@ -31,7 +32,9 @@ def float_ply(path):
     end = data.index(b"end_header\n") + len(b"end_header\n")
     header = data[:end].decode().splitlines()
     assert "format binary_little_endian 1.0" in header
-    names = [line.split()[2] for line in header if line.startswith("property float ")]
+    first = header.index(next(line for line in header if line.startswith("element vertex")))
+    vertex = itertools.takewhile(lambda line: not line.startswith(("element", "end_header")), header[first + 1:])
+    names = [line.split()[2] for line in vertex if line.startswith("property float ")]
     n = int(next(line.split()[2] for line in header if line.startswith("element vertex")))
     return np.frombuffer(data, dtype="<f4", count=n * len(names), offset=end).reshape(n, len(names)), names
 
