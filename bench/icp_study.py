@@ -22,6 +22,7 @@ Variants (stop 33; see README, Robustness sweep):
 --classes prints, for the first point-to-plane steps, each class of pairs' share of the gradient.
 """
 import argparse
+import itertools
 import sys
 
 import numpy as np
@@ -38,7 +39,9 @@ def read_samples(path):
     end = data.index(b"end_header\n") + len(b"end_header\n")
     header = data[:end].decode().split("\n")
     count = int(next(l for l in header if l.startswith("element vertex")).split()[-1])
-    floats = sum(1 for l in header if l.startswith("property float"))
+    first = next(i for i, l in enumerate(header) if l.startswith("element vertex"))
+    vertex = itertools.takewhile(lambda l: not l.startswith(("element", "end_header")), header[first + 1:])
+    floats = sum(1 for l in vertex if l.startswith("property float"))  # a scan's camera element follows
     a = np.frombuffer(data[end:end + count * floats * 4], dtype="<f4").reshape(count, floats).astype(float)
     return a[:, :3], a[:, 3:6]
 

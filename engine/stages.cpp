@@ -651,7 +651,13 @@ SynthesizedPtr synthesize_stage(RunState& state, const CorrespondencePtr& corres
                  out->synthesis.off_profile);
     if (out->synthesis.seen_through > 0)
       node_logger("synthesize")
-          ->info("{} template samples not copied: the scanner saw the scan through them", out->synthesis.seen_through);
+          ->info(
+              "{} template samples not copied: the scanner, at ({:.6g}, {:.6g}, {:.6g}) in the scan's frame ({}), saw "
+              "the scan through them",
+              out->synthesis.seen_through, (*eye)(0), (*eye)(1), (*eye)(2),
+              state.config.features.viewpoint ? "features.viewpoint"
+                                              : "the scan's own; a scan not in its sensor's frame sets "
+                                                "features.viewpoint or synthesize.seen_through: false");
     return SynthesizedPtr(std::move(out));
   });
 }

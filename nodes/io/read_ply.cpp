@@ -360,7 +360,10 @@ RawMesh read_ply(const std::filesystem::path& path) {
     std::vector<int> slots;
     for (const Property& prop : e.properties)
       slots.push_back(is_vertex || is_face || is_camera ? slot_of(e.name, prop) : -1);
-    const bool has_view = std::ranges::count_if(slots, [](int s) { return s >= kViewSlot; }) == 3;
+    int view_mask = 0;  // which of view_px, view_py, view_pz the element has
+    for (const int s : slots)
+      if (s >= kViewSlot) view_mask |= 1 << (s - kViewSlot);
+    const bool has_view = view_mask == 7;
     for (std::int64_t r = 0; r < e.count; ++r) {
       auto truncated = [&] {
         fail(path, "truncated: element '" + e.name + "' declares " + std::to_string(e.count) +
@@ -451,7 +454,8 @@ RawMesh read_ply(const std::filesystem::path& path) {
           }
         }
       }
-      if (is_camera && r == 0 && has_view) mesh.viewpoint = camera_position(path, values + kViewSlot);
+      if (is_camera && r == 0 && has_view && !mesh.viewpoint)
+        mesh.viewpoint = camera_position(path, values + kViewSlot);
     }
   }
   if (encoding == Encoding::kAscii) {

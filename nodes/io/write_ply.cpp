@@ -91,8 +91,7 @@ std::string header_of(const PlyLayout& layout) {
   if (layout.colours) header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (layout.intensity) header << "property float intensity\n";
   if (layout.faces > 0) header << "element face " << layout.faces << "\nproperty list uchar int vertex_indices\n";
-  if (layout.viewpoint)
-    header << "element camera 1\nproperty float view_px\nproperty float view_py\nproperty float view_pz\n";
+  if (layout.viewpoint) header << "element camera 1\n" << r << "view_px\n" << r << "view_py\n" << r << "view_pz\n";
   header << "end_header\n";
   return header.str();
 }
@@ -230,7 +229,10 @@ void PlyWriter::commit() {
                          std::to_string(layout_.faces) + " declared");
   if (layout_.viewpoint) {
     buf_.clear();
-    for (int k = 0; k < 3; ++k) put(buf_, float((*layout_.viewpoint)(k)));
+    for (int k = 0; k < 3; ++k) {
+      const double v = (*layout_.viewpoint)(k);
+      layout_.real == PlyReal::kFloat64 ? put(buf_, v) : put(buf_, float(v));
+    }
     out_.write(buf_.data(), std::streamsize(buf_.size()));
   }
   out_.flush();

@@ -44,8 +44,8 @@ struct PlyLayout {
   bool normals = false, curvatures = false, directions = false, colours = false, intensity = false;
   std::vector<std::pair<std::string, PlyProperty::Type>> extra;  // after the directions, before the colours
   PlyReal real = PlyReal::kFloat32;
-  // The sensor position of a single-view scan: after the faces, one camera record (view_px view_py view_pz, floats),
-  // as PCL's PLY writer gives it.
+  // The sensor position of a single-view scan: after the faces, one camera record (view_px view_py view_pz, of the
+  // coordinates' type), as PCL's PLY writer gives it.
   std::optional<Eigen::Vector3d> viewpoint;
 };
 

@@ -1700,6 +1700,9 @@ Synthesis synthesize(const SynthesisInputs& in, double spacing, const SynthesisO
   const PointSet& T = in.target;
   if (!E.has_normals() || !T.has_normals()) throw InvariantError("synthesize needs exemplar and target normals");
   if (in.labels.size() != size_t(T.size())) throw InvariantError("synthesize: one label per target sample expected");
+  for (const std::vector<std::uint8_t>* flags : {in.off_profile, in.seen_through})
+    if (flags && flags->size() != size_t(T.size()))
+      throw InvariantError("synthesize: one off-profile and seen-through flag per target sample expected");
   Synthesis out;
   Builder b{{}, {}, out};
   const auto covered = [&](Index t) { return in.covered && (*in.covered)[size_t(t)] != 0; };

@@ -64,6 +64,29 @@ PointSet disk_points(double radius, double z) {
 
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ(), kOrigin = Eigen::Vector3d::Zero();
 
+// The cup (the vase as a vessel) is a closed shell facing out: its outer wall, rim and underside face away from the
+// wall's material, its inner wall and the floor's top face into the cup. The volume its faces enclose (divergence
+// theorem) is the wall's and the floor's, about 2 pi 0.32 x 0.03 x 1 + pi 0.3^2 x 0.03 = 0.069, positive only if every
+// face is wound outward.
+TEST(ProceduralCup, ItsShellFacesOutAndItsInsideFacesTheAxis) {
+  const int segments = 96;
+  const PointSet cup = make_cup(segments);
+  const Eigen::Matrix3Xd& P = cup.positions();
+  // The inner wall's faces follow the vase's (make_cup appends it first): a grid of segments x segments quads.
+  const Eigen::Index inner_begin = make_vase(12, 16, segments).faces().cols(),
+                     inner_end = inner_begin + 2 * segments * segments;
+  double volume = 0;
+  Eigen::Index facing_in = 0;
+  for (Eigen::Index f = 0; f < cup.faces().cols(); ++f) {
+    const Eigen::Vector3d a = P.col(cup.faces()(0, f)), b = P.col(cup.faces()(1, f)), c = P.col(cup.faces()(2, f));
+    volume += a.dot(b.cross(c)) / 6;
+    const Eigen::Vector3d centre = (a + b + c) / 3, n = (b - a).cross(c - a);
+    if (f >= inner_begin && f < inner_end) facing_in += n.head<2>().dot(centre.head<2>()) < 0;
+  }
+  EXPECT_NEAR(volume, 0.069, 0.015);
+  EXPECT_EQ(facing_in, inner_end - inner_begin);
+}
+
 TEST(ProceduralRevolution, AClosedCylinderGetsBothCaps) {
   // The column's template: a finely tessellated closed cylinder; and the same drawn low-poly, whose caps are single
   // fans of 24 triangles with no vertex inside the disk but the centre.
