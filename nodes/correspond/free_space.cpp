@@ -39,9 +39,9 @@ std::uint64_t cell_key(std::int64_t i, std::int64_t j) {
 }
 
 bool within_box_of(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& eye) {
-  const Eigen::Vector3d lo = points.rowwise().minCoeff(), hi = points.rowwise().maxCoeff();
-  const Eigen::Vector3d margin = kEyeClearance * (hi - lo);
-  return ((eye - lo + margin).array() >= 0).all() && ((hi + margin - eye).array() >= 0).all();
+  const BoundingBox box = bounding_box(points);
+  const Eigen::Vector3d margin = kEyeClearance * (box.max - box.min);
+  return ((eye - box.min + margin).array() >= 0).all() && ((box.max + margin - eye).array() >= 0).all();
 }
 
 // The view of the scan's samples P from eye: its centre line the mean of their unit rays; nullopt where they do not
